@@ -1,0 +1,21 @@
+# cloth: stress and body pressure of stretch fabric worn on a body.
+# This file is a table of contents: the rules live in workflow/rules/, one file per stage.
+from snakemake.utils import min_version, validate
+
+min_version("9.0")
+
+
+configfile: "config/config.yaml"
+
+
+validate(config, "workflow/schemas/config.schema.yaml")
+
+
+include: "workflow/rules/common.smk"
+include: "workflow/rules/materials.smk"
+
+
+rule all:
+    default_target: True
+    input:
+        all_outputs(),

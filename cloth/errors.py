@@ -1,0 +1,33 @@
+"""The one exception users see: bad input, reported as a single line.
+
+Every check of user input (lab tables, configs, meshes, state files) raises `InputError` naming
+the file, the field and the fix. The CLI prints its message on one line and exits with status 2;
+library callers can catch it like any `ValueError`.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+EXIT_INPUT = 2
+
+
+class InputError(ValueError):
+    """Bad user input.
+
+    Parameters
+    ----------
+    message : str
+        What is wrong and how to fix it, one sentence.
+    source : str or Path, optional
+        The file (or config key) the bad input came from.
+    field : str, optional
+        The column, row, key or variable that is wrong.
+    """
+
+    def __init__(self, message: str, source: str | Path | None = None, field: str | None = None):
+        self.source = None if source is None else str(source)
+        self.field = field
+        self.detail = message
+        where = ": ".join(part for part in (self.source, field) if part)
+        super().__init__(f"{where}: {message}" if where else message)

@@ -1,0 +1,133 @@
+"""Atomic file writing, netCDF read/write with CF conventions, and provenance.
+
+Every file the project writes goes through `atomic_output`: it is written to a temporary file in
+the destination folder and renamed over the destination only when complete, so a killed job
+never leaves a half-written output (`os.replace` is atomic on POSIX file systems).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import datetime as _dt
+import json
+import os
+import shlex
+import sys
+import tempfile
+from collections.abc import Iterator, Mapping
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from cloth import __version__
+from cloth.errors import InputError
+
+CONVENTIONS = "CF-1.11"
+
+
+@contextlib.contextmanager
+def atomic_output(path: str | Path) -> Iterator[Path]:
+    """Yield a temporary path beside ``path``; rename it to ``path`` if the block succeeds.
+
+    Examples
+    --------
+    >>> with atomic_output("out.txt") as tmp:  # doctest: +SKIP
+    ...     tmp.write_text("done")
+    """
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, name = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    os.close(fd)
+    tmp = Path(name)
+    try:
+        yield tmp
+        os.replace(tmp, path)
+    finally:
+        if tmp.exists():
+            tmp.unlink()
+
+
+def history_line(argv: list[str] | None = None) -> str:
+    """A CF ``history`` entry: UTC time and the command that made the file."""
+    now = _dt.datetime.now(_dt.UTC).strftime("%Y-%m-%dT%H:%M:%SZ")
+    argv = sys.argv if argv is None else argv
+    command = shlex.join([Path(argv[0]).name, *argv[1:]]) if argv else "cloth"
+    return f"{now}: {command} (cloth {__version__})"
+
+
+def global_attrs(title: str, previous: Mapping[str, object] | None = None) -> dict[str, str]:
+    """CF global attributes; ``history`` appends to the previous file's history."""
+    history = history_line()
+    if previous and previous.get("history"):
+        history = f"{previous['history']}\n{history}"
+    return {
+        "Conventions": CONVENTIONS,
+        "title": title,
+        "institution": "cloth",
+        "source": f"cloth {__version__}",
+        "cloth_version": __version__,
+        "history": history,
+    }
+
+
+def to_attr(value: object) -> str | int | float:
+    """A netCDF-safe attribute value: dicts/lists/None as JSON, bools as 0/1."""
+    if isinstance(value, bool | np.bool_):
+        return int(value)
+    if isinstance(value, str | int | float) and not isinstance(value, bool):
+        return value
+    return json.dumps(value, default=str, sort_keys=True)
+
+
+def write_netcdf(ds: xr.Dataset, path: str | Path) -> Path:
+    """Write ``ds`` atomically with ``engine="netcdf4"``; coordinates get no _FillValue."""
+    encoding: dict[str, dict[str, object]] = {
+        name: {"_FillValue": None} for name in ds.coords if ds[name].dtype.kind == "f"
+    }
+    for name, var in ds.data_vars.items():
+        if var.dtype.kind == "f":
+            encoding[str(name)] = {"_FillValue": None}
+    with atomic_output(path) as tmp:
+        ds.to_netcdf(tmp, engine="netcdf4", encoding=encoding)
+    return Path(path)
+
+
+def read_netcdf(path: str | Path, kind: str, required: tuple[str, ...] = ()) -> xr.Dataset:
+    """Open a project netCDF file fully into memory (the file is closed on return).
+
+    Parameters
+    ----------
+    path : path
+    kind : str
+        What the file should be (its ``cloth_kind`` attribute), e.g. ``"material"``.
+    required : tuple of str
+        Variables that must be present.
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise InputError("file not found; check the path or run the stage that makes it", path)
+    try:
+        with xr.open_dataset(path, engine="netcdf4") as ds:
+            ds.load()
+    except Exception as exc:  # netCDF4/HDF5 raise a variety of errors for corrupt files
+        raise InputError(
+            f"not a readable netCDF file ({type(exc).__name__}); re-create it", path
+        ) from None
+    found = ds.attrs.get("cloth_kind")
+    if found != kind:
+        raise InputError(
+            f"expected a cloth {kind} file, found {found or 'no cloth_kind attribute'}; "
+            "pass the right file",
+            path,
+            "cloth_kind",
+        )
+    missing = [name for name in required if name not in ds.variables]
+    if missing:
+        raise InputError(
+            f"missing variable {missing[0]!r}; the file is incomplete or from another cloth "
+            "version, re-create it",
+            path,
+            missing[0],
+        )
+    return ds

@@ -1,0 +1,22 @@
+"""Shared fixtures: an example fabric with distinctly different weft and warp curves."""
+
+from __future__ import annotations
+
+import matplotlib
+import pytest
+
+matplotlib.use("Agg")
+
+from cloth.materials import Fabric, StressStrainCurve
+
+
+def make_fabric(thickness: float = 5.0e-4) -> Fabric:
+    """A J-shaped elastane-knit-like fabric: weft softer than warp (numbers illustrative)."""
+    weft = StressStrainCurve([0.0, 0.1, 0.3, 0.6, 1.0], [0.0, 0.05e6, 0.2e6, 0.6e6, 1.6e6])
+    warp = StressStrainCurve([0.0, 0.15, 0.4, 0.8], [0.0, 0.12e6, 0.5e6, 1.8e6])
+    return Fabric("test knit", weft=weft, warp=warp, thickness=thickness)
+
+
+@pytest.fixture
+def fabric() -> Fabric:
+    return make_fabric()

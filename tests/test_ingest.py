@@ -1,0 +1,179 @@
+"""Lab tables -> curves: unit conversion, cycle/branch choice, fit accuracy, round trip."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from cloth.cli import main
+from cloth.fitting import fit_monotone
+from cloth.labtables import IngestOptions, ingest
+from cloth.materialfile import fabric_from_dataset, material_dataset
+from cloth.materials import StressStrainCurve
+
+ROOT = Path(__file__).resolve().parents[1]
+TRUE = StressStrainCurve([0.0, 0.1, 0.35, 0.6, 0.8], [0.0, 0.08e6, 0.5e6, 1.3e6, 2.4e6])
+
+
+def write(path: Path, text: str) -> Path:
+    path.write_text(text)
+    return path
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_noisy_dense_curve_is_recovered_within_reported_error(seed):
+    rng = np.random.default_rng(seed)
+    eps = np.sort(rng.uniform(0, 0.8, 600))
+    noise = 0.01 * 2.4e6
+    sigma = TRUE.stress(eps) + rng.normal(scale=noise / 3, size=eps.size)
+    knots_x, knots_y, report = fit_monotone(eps, sigma, n_knots=8)
+    fitted = StressStrainCurve(knots_x, knots_y)
+    assert np.all(np.diff(knots_y) >= 0)  # monotone
+    deviation = np.abs(fitted.stress(eps) - TRUE.stress(eps))
+    assert np.max(deviation) <= report.max_error
+    assert report.rms_error <= 1.2 * noise / 3  # no worse than the noise itself, near enough
+    assert report.max_error_percent == pytest.approx(100 * report.max_error / np.max(np.abs(sigma)))
+
+
+def test_exact_curve_is_fitted_exactly_when_knots_allow():
+    eps = np.linspace(0, 0.8, 161)  # candidates of the greedy placement include every true knot
+    knots_x, knots_y, report = fit_monotone(eps, TRUE.stress(eps), n_knots=5, n_candidates=159)
+    np.testing.assert_allclose(knots_x, TRUE.knot_strain, atol=1e-12)
+    np.testing.assert_allclose(knots_y, TRUE.knot_stress, rtol=1e-8)
+    assert report.max_error <= 1e-6 * 2.4e6
+
+
+def test_raw_force_export_converts_units_and_picks_last_unload(tmp_path):
+    width, thickness, k_weft, k_warp = 50.0, 0.5, 20.0, 30.0  # force = k x strain (N)
+    rows = []
+    for direction, k in (("weft", k_weft), ("warp", k_warp)):
+        for cycle in (1, 2):
+            for branch, scale in (("load", 1.0), ("unload", 0.9 if cycle == 2 else 0.95)):
+                for pct in np.linspace(0, 60, 13):
+                    rows.append(
+                        f"{direction},{cycle},{branch},{pct:.1f},{scale * k * pct / 100:.6f}"
+                    )
+    table = write(
+        tmp_path / "raw.csv",
+        f"# specimen_width_mm: {width}\n# thickness_mm: {thickness}\n# lab note ignored\n"
+        "direction,cycle,branch,elongation_percent,force_N\n" + "\n".join(rows) + "\n",
+    )
+    material = ingest([table], options=IngestOptions(n_knots=3))
+    area = width * thickness * 1e-6
+    for direction, k in (("weft", k_weft), ("warp", k_warp)):
+        curve = material.fabric.curve(direction)
+        # the default takes cycle 2's unloading branch: 0.9 x the loading force
+        assert float(curve.stress(0.4)) == pytest.approx(0.9 * k * 0.4 / area, rel=1e-6)
+        assert material.data[direction].raw_strain.size == 13
+    assert material.fabric.thickness == pytest.approx(thickness * 1e-3)
+    loading = ingest([table], options=IngestOptions(n_knots=3, branch="load", cycle=1))
+    assert float(loading.fabric.weft.stress(0.4)) == pytest.approx(k_weft * 0.4 / area, rel=1e-6)
+
+
+def test_extension_and_clean_tables_one_file_per_direction(tmp_path):
+    weft = write(
+        tmp_path / "weft.csv",
+        "# gauge_length_mm: 200\n# specimen_width_mm: 25\n# thickness_mm: 1.0\n"
+        "extension_mm,force_cN\n0,0\n20,500\n40,1500\n",
+    )
+    warp = write(tmp_path / "warp.csv", "strain_percent,stress_kPa\n0,0\n10,50\n30,400\n")
+    material = ingest([weft, warp], ["weft", "warp"])
+    np.testing.assert_allclose(material.fabric.weft.knot_strain, [0.0, 0.1, 0.2])
+    np.testing.assert_allclose(material.fabric.weft.knot_stress, [0.0, 5.0 / 25e-6, 15.0 / 25e-6])
+    np.testing.assert_allclose(material.fabric.warp.knot_strain, [0.0, 0.1, 0.3])
+    np.testing.assert_allclose(material.fabric.warp.knot_stress, [0.0, 5e4, 4e5])
+    assert material.data["warp"].report.max_error == 0.0
+
+
+def test_material_file_round_trip(tmp_path):
+    out = tmp_path / "m.nc"
+    assert (
+        main(
+            [
+                "--log-level",
+                "WARNING",
+                "material",
+                "ingest",
+                str(ROOT / "data/materials/powernet.csv"),
+                "-o",
+                str(out),
+                "--plot",
+                str(tmp_path / "m.png"),
+            ]
+        )
+        == 0
+    )
+    with xr.open_dataset(out, engine="netcdf4") as ds:
+        ds.load()
+    assert ds.attrs["Conventions"] == "CF-1.11"
+    for name, var in ds.data_vars.items():
+        assert "units" in var.attrs and "long_name" in var.attrs, name
+    fabric = fabric_from_dataset(ds)
+    reference = ingest([ROOT / "data/materials/powernet.csv"])
+    for direction in ("weft", "warp"):
+        np.testing.assert_array_equal(
+            fabric.curve(direction).knot_stress, reference.fabric.curve(direction).knot_stress
+        )
+        assert float(ds[f"{direction}_fit_max_error_percent"]) < 2.0
+    assert fabric.thickness == pytest.approx(0.55e-3)
+    assert (tmp_path / "m.png").stat().st_size > 10_000
+    again = material_dataset(reference)
+    assert set(again.data_vars) == set(ds.data_vars)
+
+
+GOOD_HEADER = "# thickness_mm: 0.5\n"
+BAD_TABLES = {
+    "missing column": (GOOD_HEADER + "direction,strain\nweft,0\n", "missing stress column"),
+    "non-numeric": (GOOD_HEADER + "direction,strain,stress\nweft,0,0\nweft,0.1,abc\n", "row 4"),
+    "non-monotone": (
+        GOOD_HEADER + "direction,strain,stress\nweft,0,0\nweft,0.3,5\nweft,0.2,6\n",
+        "decreases",
+    ),
+    "nan": (GOOD_HEADER + "direction,strain,stress\nweft,0,0\nweft,0.1,nan\n", "not finite"),
+    "duplicate knots": (
+        GOOD_HEADER + "direction,strain,stress\nweft,0,0\nweft,0.1,5\nweft,0.1,6\n",
+        "repeats",
+    ),
+    "unknown units": (GOOD_HEADER + "direction,strain,stress_psi\nweft,0,0\n", "unknown unit"),
+    "empty": ("", "no header row"),
+    "header only": (GOOD_HEADER + "direction,strain,stress\n", "no data rows"),
+    "unknown direction": (
+        GOOD_HEADER + "direction,strain,stress\nwarp,0,0\nwarp,1,1\nweft,0,0\nbias45,1,1\n",
+        "unknown direction",
+    ),
+    "missing thickness": (
+        "direction,strain,stress\nweft,0,0\nweft,1,1\nwarp,0,0\nwarp,1,1\n",
+        "thickness",
+    ),
+    "negative thickness": (
+        "# thickness_mm: -1\ndirection,strain,stress\nweft,0,0\nweft,1,1\nwarp,0,0\nwarp,1,1\n",
+        "thickness",
+    ),
+    "no warp": (GOOD_HEADER + "direction,strain,stress\nweft,0,0\nweft,1,1\n", "no warp"),
+}
+
+
+@pytest.mark.parametrize("case", sorted(BAD_TABLES))
+def test_bad_table_one_line_exit_2_no_output(tmp_path, capsys, case):
+    text, expected = BAD_TABLES[case]
+    table = write(tmp_path / "lab.csv", text)
+    out = tmp_path / "out" / "m.nc"
+    status = main(
+        ["material", "ingest", str(table), "-o", str(out), "--plot", str(tmp_path / "p.png")]
+    )
+    err = capsys.readouterr().err.strip().splitlines()
+    assert status == 2
+    assert len(err) == 1 and "Traceback" not in err[0]
+    assert str(table) in err[0] and expected in err[0]
+    assert not out.exists() and not (tmp_path / "p.png").exists()
+    assert not list(tmp_path.rglob("*.tmp"))
+
+
+def test_missing_file_is_one_line(tmp_path, capsys):
+    assert (
+        main(["material", "ingest", str(tmp_path / "nope.csv"), "-o", str(tmp_path / "m.nc")]) == 2
+    )
+    assert "file not found" in capsys.readouterr().err
