@@ -37,7 +37,9 @@ unit: $(STAMP)
 test: lint unit
 
 bench: $(STAMP)
+	$(BIN)/python -m pip install --quiet -e '.[bench]'
 	$(BIN)/python benchmarks/bench_mechanics.py
+	$(BIN)/python benchmarks/bench_bodies.py
 
 clean:
 	rm -rf results .snakemake

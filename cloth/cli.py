@@ -61,6 +61,116 @@ def _material_ingest(args: argparse.Namespace) -> int:
     return 0
 
 
+def _body_torso(args: argparse.Namespace) -> int:
+    import dataclasses
+
+    import trimesh
+
+    from cloth.io import atomic_output
+    from cloth.torso import DEFAULT_CHART, chart_size, torso_mesh
+
+    chart = chart_size(args.size, args.chart or DEFAULT_CHART)
+    overrides = {k: getattr(args, k) / 100 for k in ("bust", "underbust", "waist", "hip")
+                 if getattr(args, k) is not None}  # fmt: skip
+    if overrides:
+        chart = dataclasses.replace(chart, girth={**chart.girth, **overrides})
+    vertices, faces = torso_mesh(chart, args.around, args.rings)
+    mesh = trimesh.Trimesh(vertices, faces, process=False)
+    suffix = args.output.suffix.lstrip(".").lower() or "ply"
+    with atomic_output(args.output) as tmp:
+        mesh.export(tmp, file_type=suffix)
+    log.info(
+        "wrote %s: torso %s, %d vertices, %d faces, girths (m) %s",
+        args.output, chart.name, len(vertices), len(faces),
+        ", ".join(f"{k} {v:.4g}" for k, v in chart.girth.items()),
+    )  # fmt: skip
+    return 0
+
+
+def _body_check(args: argparse.Namespace) -> int:
+    import numpy as np
+
+    from cloth.bodies import MeshBody
+
+    body = MeshBody.load(args.mesh, units=args.units, up=args.up, repair=args.repair)
+    report = body.report
+    low, high = body.z_range
+    lo, hi = body.vertices.min(axis=0), body.vertices.max(axis=0)
+    lines = [
+        f"mesh: {args.mesh} ({args.units}, {args.up} up; shown in m, z up)",
+        f"vertices: {report.n_vertices}  faces: {report.n_faces}",
+        f"watertight: {report.watertight}  consistently wound: {report.winding_consistent}  "
+        f"degenerate faces: {report.degenerate_faces}  volume: {report.volume:.6g} m3",
+        f"bounds: x {lo[0]:.4f}..{hi[0]:.4f}  y {lo[1]:.4f}..{hi[1]:.4f}  "
+        f"z {lo[2]:.4f}..{hi[2]:.4f} m",
+        f"height: {high - low:.4f} m",
+    ]
+    if report.repairs:
+        lines.append("repairs: " + "; ".join(report.repairs))
+    lines.append("girth profile:  height [m]   section [m]   convex hull [m]")
+    for z in np.linspace(low, high, args.levels + 2)[1:-1]:
+        section, hull = body.girth(float(z))
+        lines.append(f"                {z:10.4f}   {section:11.4f}   {hull:15.4f}")
+    print("\n".join(lines))
+    return 0
+
+
+def _predeform(args: argparse.Namespace) -> int:
+    from cloth.bodies import body_from_config
+    from cloth.config import load_case
+    from cloth.io import write_netcdf
+    from cloth.mechanics import spring_state
+    from cloth.plots import plot_garment_3d
+    from cloth.predeform import predeform
+    from cloth.state import state_dataset
+
+    case = load_case(args.case)
+    base_dir = args.base_dir if args.base_dir is not None else args.case.parent
+    state = predeform(case, base_dir, str(args.case))
+    write_netcdf(state_dataset(state, "initial"), args.output)
+    log.info("wrote %s", args.output)
+    if args.plot:
+        import numpy as np
+
+        grid = state.grid
+        strain = spring_state(state.x, grid).strain[grid.family_slices[0]]
+        body, _ = body_from_config(state.case["body"], base_dir)
+        plot_garment_3d(
+            state.x, grid.n, grid.m, np.repeat(strain.reshape(grid.m, grid.n), 1, axis=1).ravel(),
+            "initial weft strain [1]", args.plot, body,
+            title=f"{args.case.stem}: garment wrapped on the body (before relaxation)",
+        )  # fmt: skip
+    return 0
+
+
+def _case_write(args: argparse.Namespace) -> int:
+    import json
+
+    import yaml
+
+    from cloth.config import validate_case
+    from cloth.io import atomic_output
+
+    try:
+        case = json.loads(args.json)
+    except json.JSONDecodeError as exc:
+        raise InputError(f"not valid JSON ({exc.msg})", field="--json") from None
+    case = validate_case(case, args.output)
+    with atomic_output(args.output) as tmp:
+        tmp.write_text(yaml.safe_dump(case, sort_keys=False))
+    log.info("wrote %s", args.output)
+    return 0
+
+
+def _case_check(args: argparse.Namespace) -> int:
+    import yaml
+
+    from cloth.config import load_case
+
+    print(yaml.safe_dump(load_case(args.case), sort_keys=False), end="")
+    return 0
+
+
 def _positive_int(text: str) -> int:
     value = int(text)
     if value < 2:
@@ -123,6 +233,61 @@ def build_parser() -> argparse.ArgumentParser:
     )
     ingest.add_argument("--name", help="fabric name (default: header name or file stem)")
     ingest.set_defaults(handler=_material_ingest)
+
+    body = commands.add_parser("body", help="bodies: parametric torso, mesh checks")
+    body_commands = body.add_subparsers(dest="body_command", required=True)
+    torso = body_commands.add_parser(
+        "torso",
+        help="write the parametric torso of a size chart as a mesh",
+        description="Build the smooth, watertight parametric torso of a size (m, z up).",
+    )
+    torso.add_argument("--size", required=True, help="size name in the chart (e.g. S, M)")
+    torso.add_argument("--chart", type=Path, help="size chart CSV (default data/bodies)")
+    for key in ("bust", "underbust", "waist", "hip"):
+        torso.add_argument(f"--{key}", type=float, help=f"override the {key} girth, cm")
+    torso.add_argument("--around", type=int, default=128, help="mesh points per ring")
+    torso.add_argument("--rings", type=int, default=120, help="mesh rings")
+    torso.add_argument("-o", "--output", type=Path, required=True, help="mesh file (.ply, .stl)")
+    torso.set_defaults(handler=_body_torso)
+    check = body_commands.add_parser(
+        "check",
+        help="check a mesh and print its bounds, height and girth profile",
+        description="Load a body mesh as cloth would (units, up axis, checks) and describe it.",
+    )
+    check.add_argument("mesh", type=Path, help="mesh file (OBJ, STL, PLY, GLB, ...)")
+    check.add_argument("--units", default="m", help="length unit of the file: m, cm or mm")
+    check.add_argument("--up", default="z", help="axis of the file that points up: x, y or z")
+    check.add_argument("--repair", action="store_true", help="let trimesh repair defects")
+    check.add_argument("--levels", type=int, default=10, help="heights in the girth profile")
+    check.set_defaults(handler=_body_check)
+
+    pre = commands.add_parser(
+        "predeform",
+        help="case.yaml -> initial.nc (the garment wrapped on the body)",
+        description="Cut the pattern of a case and wrap it around the body (docs/config.md).",
+    )
+    pre.add_argument("case", type=Path, help="case YAML file")
+    pre.add_argument("-o", "--output", type=Path, required=True, help="initial.nc to write")
+    pre.add_argument(
+        "--base-dir", type=Path, help="folder relative paths in the case are relative to "
+        "(default: the case file's folder)",
+    )  # fmt: skip
+    pre.add_argument("--plot", type=Path, help="also write a 3D figure of the wrapped garment")
+    pre.set_defaults(handler=_predeform)
+
+    case = commands.add_parser("case", help="case files: check, write")
+    case_commands = case.add_subparsers(dest="case_command", required=True)
+    case_check = case_commands.add_parser(
+        "check", help="validate a case file and print it with defaults filled"
+    )
+    case_check.add_argument("case", type=Path, help="case YAML file")
+    case_check.set_defaults(handler=_case_check)
+    case_write = case_commands.add_parser(
+        "write", help="validate a case given as JSON and write it as YAML (used by the pipeline)"
+    )
+    case_write.add_argument("--json", required=True, help="the case as a JSON object")
+    case_write.add_argument("-o", "--output", type=Path, required=True, help="case YAML to write")
+    case_write.set_defaults(handler=_case_write)
     return parser
 
 

@@ -26,14 +26,17 @@ Global attributes: ``cloth_kind = "material"``, ``fabric_name``, ``provenance`` 
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import xarray as xr
 
+from cloth.errors import InputError
 from cloth.io import global_attrs, to_attr
 from cloth.labtables import Material
 from cloth.materials import DIRECTIONS, Fabric, StressStrainCurve
 
 KIND = "material"
+DATA_MATERIALS = Path(__file__).resolve().parents[1] / "data" / "materials"
 
 
 def _var(dims, values, units: str, long_name: str, **attrs) -> xr.Variable:
@@ -145,5 +148,28 @@ __all__ = [
     "fabric_from_dataset",
     "fabric_variables",
     "fit_errors",
+    "load_fabric",
     "material_dataset",
 ]
+
+
+def load_fabric(spec: str, base_dir: str | Path = ".") -> Fabric:
+    """The fabric named by a case's ``material``: a lab table (CSV), a material.nc, or the name
+    of a table in ``data/materials`` (e.g. ``powernet``)."""
+    from cloth.config import resolve
+    from cloth.io import read_netcdf
+    from cloth.labtables import ingest
+
+    path = resolve(spec, base_dir)
+    if not path.suffix:
+        path = DATA_MATERIALS / f"{spec}.csv"
+        if not path.is_file():
+            names = sorted(p.stem for p in DATA_MATERIALS.glob("*.csv"))
+            raise InputError(
+                f"unknown material {spec!r}; give a lab table, a material.nc, or one of "
+                f"{', '.join(names)}",
+                field="material",
+            )
+    if path.suffix == ".nc":
+        return fabric_from_dataset(read_netcdf(path, KIND))
+    return ingest([path]).fabric

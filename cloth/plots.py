@@ -61,3 +61,84 @@ def plot_material(ds: xr.Dataset, path: str | Path) -> Path:
     ax.set_xlim(left=0)
     ax.set_ylim(bottom=min(0.0, float(np.nanmin(ax.get_ylim()))))
     return _save(fig, path)
+
+
+def _body_triangles(body, z_low: float, z_high: float):
+    """Vertices and faces of a body for drawing (meshes as they are, closed forms sampled)."""
+    from cloth.bodies import MeshBody
+
+    if isinstance(body, MeshBody):
+        keep = np.all(
+            (body.vertices[body.faces][:, :, 2] >= z_low)
+            & (body.vertices[body.faces][:, :, 2] <= z_high),
+            axis=1,
+        )
+        return body.vertices, body.faces[keep]
+    heights = np.linspace(z_low, z_high, 12)
+    rings = []
+    for z in heights:
+        loop = body.sections(float(z))[0][:, 0][:: max(1, len(body.sections(float(z))[0]) // 64)]
+        rings.append(np.column_stack([loop, np.full(len(loop), z)]))
+    k = len(rings[0])
+    vertices = np.concatenate(rings)
+    i = np.arange(k)
+    faces = [
+        np.stack([r * k + i, r * k + (i + 1) % k, (r + 1) * k + i], axis=1) for r in range(11)
+    ] + [
+        np.stack([r * k + (i + 1) % k, (r + 1) * k + (i + 1) % k, (r + 1) * k + i], axis=1)
+        for r in range(11)
+    ]
+    return vertices, np.concatenate(faces)
+
+
+def plot_garment_3d(
+    x: np.ndarray,
+    n: int,
+    m: int,
+    values: np.ndarray,
+    label: str,
+    path: str | Path,
+    body=None,
+    title: str = "",
+    vmin: float | None = None,
+    vmax: float | None = None,
+) -> Path:
+    """The garment grid in 3D, its nodes coloured by ``values`` ((m*n,) array, label with unit),
+    over a translucent body."""
+    from matplotlib import cm, colors
+
+    fig = plt.figure(figsize=(6.4, 7.0), layout="constrained")
+    ax = fig.add_subplot(projection="3d")
+    pts = x.reshape(m, n, 3)
+    low, high = float(pts[..., 2].min()), float(pts[..., 2].max())
+    if body is not None:
+        margin = 0.08 * (high - low)
+        lo, hi = body.z_range
+        verts, faces = _body_triangles(body, max(lo, low - margin), min(hi, high + margin))
+        if len(faces):
+            ax.plot_trisurf(
+                verts[:, 0], verts[:, 1], faces, verts[:, 2], color="0.85", alpha=0.25,
+                linewidth=0,
+            )  # fmt: skip
+    norm = colors.Normalize(
+        vmin=float(np.nanmin(values)) if vmin is None else vmin,
+        vmax=float(np.nanmax(values)) if vmax is None else vmax,
+    )
+    closed = np.concatenate([pts, pts[:, :1]], axis=1)
+    for j in range(m):
+        ax.plot(*closed[j].T, color="0.3", lw=0.3)
+    for i in range(0, n, max(1, n // 48)):
+        ax.plot(*pts[:, i].T, color="0.3", lw=0.3)
+    ax.scatter(*x.T, c=values, cmap="viridis", norm=norm, s=4, depthshade=False)
+    fig.colorbar(cm.ScalarMappable(norm=norm, cmap="viridis"), ax=ax, shrink=0.6, label=label)
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("y [m]")
+    ax.set_zlabel("z [m]")
+    span = np.ptp(x, axis=0).max() / 2
+    centre = (x.max(axis=0) + x.min(axis=0)) / 2
+    ax.set_xlim(centre[0] - span, centre[0] + span)
+    ax.set_ylim(centre[1] - span, centre[1] + span)
+    ax.set_zlim(centre[2] - span, centre[2] + span)
+    ax.view_init(elev=15, azim=-60)
+    ax.set_title(title, fontsize=10)
+    return _save(fig, path)

@@ -17,6 +17,14 @@ def make_fabric(thickness: float = 5.0e-4) -> Fabric:
     return Fabric("test knit", weft=weft, warp=warp, thickness=thickness)
 
 
+def write_obj(path, vertices, faces):
+    """Write a mesh as OBJ at full float64 precision (STL and trimesh's PLY store float32)."""
+    lines = [f"v {x!r} {y!r} {z!r}" for x, y, z in vertices.tolist()]
+    lines += [f"f {a + 1} {b + 1} {c + 1}" for a, b, c in faces.tolist()]
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
 @pytest.fixture
 def fabric() -> Fabric:
     return make_fabric()

@@ -1,5 +1,10 @@
-# Helpers shared by the rules: config lookups and the list of final outputs.
+# Helpers shared by the rules: config lookups, case expansion and the list of final outputs.
+import json
+import shlex
+
 from cloth import __version__ as CLOTH_VERSION
+from cloth.config import validate_case
+from cloth.errors import InputError
 
 
 def material_config(name):
@@ -34,13 +39,43 @@ def ingest_flags(wildcards):
             flags += [flag, str(block[key])]
     for direction in block.get("directions", []):
         flags += ["--direction", direction]
-    return " ".join(shlex_quote(flag) for flag in flags)
+    return " ".join(shlex.quote(flag) for flag in flags)
 
 
-def shlex_quote(text):
-    import shlex
+def resolved_case(name):
+    """Case ``name`` of the config with its material as the ingested file, validated."""
+    block = dict(config.get("cases", {})[name])
+    material = block.get("material")
+    if material not in config["materials"]:
+        raise InputError(
+            f"material {material!r} is not defined under materials "
+            f"({', '.join(sorted(config['materials']))})",
+            "config",
+            f"cases.{name}.material",
+        )
+    block["material"] = f"results/materials/{material}.nc"
+    return validate_case(block, f"config: cases.{name}")
 
-    return shlex.quote(text)
+
+CASES = {name: resolved_case(name) for name in config.get("cases", {})}
+
+
+def case_json(wildcards):
+    return json.dumps(CASES[wildcards.case], sort_keys=True)
+
+
+def body_files(wildcards):
+    """Files the body of a case reads (mesh or size chart), so edits rerun the case."""
+    body = CASES[wildcards.case]["body"]
+    if "mesh" in body:
+        return [body["mesh"]]
+    if "torso" in body:
+        return [body["torso"].get("chart", "data/bodies/size_chart.csv")]
+    return []
+
+
+def case_material(wildcards):
+    return CASES[wildcards.case]["material"]
 
 
 def all_outputs():
@@ -48,4 +83,7 @@ def all_outputs():
     return expand(
         ["results/materials/{material}.nc", "results/materials/{material}.png"],
         material=sorted(config["materials"]),
+    ) + expand(
+        ["results/cases/{case}/initial.nc", "results/cases/{case}/initial.png"],
+        case=sorted(CASES),
     )

@@ -1,0 +1,41 @@
+# Stage 2: case -> initial.nc (the pattern cut and wrapped around the body) + a 3D figure.
+
+
+rule write_case:
+    output:
+        "results/cases/{case}/case.yaml",
+    log:
+        "logs/write_case/{case}.log",
+    conda:
+        "../envs/cloth.yaml"
+    params:
+        case=case_json,
+        cloth_version=CLOTH_VERSION,
+    shell:
+        "cloth case write --json {params.case:q} -o {output:q} > {log:q} 2>&1"
+
+
+rule predeform:
+    input:
+        case="results/cases/{case}/case.yaml",
+        material=case_material,
+        body=body_files,
+    output:
+        nc="results/cases/{case}/initial.nc",
+        png=report(
+            "results/cases/{case}/initial.png",
+            caption="../report/initial.rst",
+            category="Cases",
+            subcategory="{case}",
+        ),
+    log:
+        "logs/predeform/{case}.log",
+    benchmark:
+        "benchmarks/results/predeform/{case}.tsv"
+    conda:
+        "../envs/cloth.yaml"
+    params:
+        cloth_version=CLOTH_VERSION,
+    shell:
+        "cloth predeform {input.case:q} --base-dir . -o {output.nc:q} --plot {output.png:q} "
+        "> {log:q} 2>&1"
