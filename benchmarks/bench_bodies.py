@@ -2,8 +2,8 @@
 
 Proximity: 10k and 100k points within +-5 mm of the surface (where garment nodes are) of a
 20k-face and a 100k-face torso mesh, for libigl (default), the numpy/scipy fallback
-(cloth.proximity) and trimesh's closest_point (on a 1k-point sample: it is slow). Writes the tables into
-docs/performance.md (sections ``proximity`` and ``predeform``). Run:
+(cloth.proximity) and trimesh's closest_point (on a 1k-point sample: it is slow). Writes the
+tables into docs/performance.md (sections ``proximity`` and ``predeform``). Run:
 
     .venv/bin/python benchmarks/bench_bodies.py [--repeat 3]
 """
