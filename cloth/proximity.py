@@ -130,12 +130,15 @@ class MeshProximity:
             i, j = np.meshgrid(np.arange(s), np.arange(s), indexing="ij")
             up = (i + j <= s - 1).ravel()
             down = (i + j <= s - 2).ravel()
-            ij = np.concatenate(
-                [
-                    np.stack([i.ravel()[up], j.ravel()[up]], axis=1) + 1 / 3,
-                    np.stack([i.ravel()[down], j.ravel()[down]], axis=1) + 2 / 3,
-                ]
-            ) / s
+            ij = (
+                np.concatenate(
+                    [
+                        np.stack([i.ravel()[up], j.ravel()[up]], axis=1) + 1 / 3,
+                        np.stack([i.ravel()[down], j.ravel()[down]], axis=1) + 2 / 3,
+                    ]
+                )
+                / s
+            )
             bary = np.column_stack([1 - ij.sum(axis=1), ij])  # (s*s, 3)
             points = np.einsum("gc,fcd->fgd", bary, corners[group])
             samples.append(points.reshape(-1, 3))
