@@ -14,6 +14,7 @@ validate(config, "workflow/schemas/config.schema.yaml")
 include: "workflow/rules/common.smk"
 include: "workflow/rules/materials.smk"
 include: "workflow/rules/predeform.smk"
+include: "workflow/rules/relax.smk"
 
 
 rule all:

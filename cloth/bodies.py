@@ -163,8 +163,23 @@ class Cylinder(_Analytic):
         t = 2 * np.pi * np.arange(SECTION_POINTS) / SECTION_POINTS
         return self.radius * np.stack([np.cos(t), np.sin(t)], axis=1)
 
+    def hessian(self, surface_points: ArrayLike) -> NDArray[np.float64]:
+        """Hessian of the signed distance at surface points ((P, 3, 3), m-1): (1/r) t t^T."""
+        return _circumferential(_points(surface_points), 1.0 / self.radius)
+
     def _perimeter(self, z: float) -> float:
         return 2 * np.pi * self.radius
+
+
+def _circumferential(
+    p: NDArray[np.float64], curvature, tx: NDArray | None = None, ty: NDArray | None = None
+) -> NDArray[np.float64]:
+    """kappa t t^T with t the horizontal tangent (default: perpendicular to the radius)."""
+    if tx is None:
+        tx, ty = p[:, 0], p[:, 1]
+    t = np.stack([-ty, tx, np.zeros(len(p))], axis=1)
+    t /= np.linalg.norm(t, axis=1)[:, None]
+    return np.asarray(curvature)[..., None, None] * t[:, :, None] * t[:, None, :]
 
 
 def _ellipse_root(r0: NDArray, z0: NDArray, z1: NDArray, g: NDArray) -> NDArray:
@@ -232,6 +247,13 @@ class EllipticCylinder(_Analytic):
         normal = gradient / np.linalg.norm(gradient, axis=1)[:, None]
         return distance, np.column_stack([q, p[:, 2]]), normal
 
+    def hessian(self, surface_points: ArrayLike) -> NDArray[np.float64]:
+        """Hessian of the signed distance at surface points ((P, 3, 3), m-1): kappa t t^T."""
+        p = _points(surface_points)
+        return _circumferential(
+            p, self.curvature(p[:, :2]), self.b**2 * p[:, 0], self.a**2 * p[:, 1]
+        )
+
     def curvature(self, xy: ArrayLike) -> NDArray[np.float64]:
         """Curvature (m-1) of the ellipse at points on it ((P, 2), m)."""
         xy = np.asarray(xy, dtype=np.float64)
@@ -290,6 +312,14 @@ class Cone(_Analytic):
         t = 2 * np.pi * np.arange(SECTION_POINTS) / SECTION_POINTS
         return float(self.radius(z)) * np.stack([np.cos(t), np.sin(t)], axis=1)
 
+    def hessian(self, surface_points: ArrayLike) -> NDArray[np.float64]:
+        """Hessian of the signed distance at surface points ((P, 3, 3), m-1): the normal
+        curvature n_r / r of the circumferential direction (the generators are straight)."""
+        p = _points(surface_points)
+        dr, dz = self.radius_top - self.radius_bottom, self.top - self.bottom
+        n_r = dz / np.hypot(dr, dz)
+        return _circumferential(p, n_r / np.hypot(p[:, 0], p[:, 1]))
+
     def _perimeter(self, z: float) -> float:
         return float(2 * np.pi * self.radius(z))
 
@@ -343,6 +373,7 @@ class MeshBody:
     report: MeshReport | None = None
     _query: object = field(init=False, repr=False, default=None)
     _trimesh: object = field(init=False, repr=False, default=None)
+    _topo: dict | None = field(init=False, repr=False, default=None)
 
     def __post_init__(self) -> None:
         self.vertices = np.ascontiguousarray(self.vertices, dtype=np.float64)
@@ -451,6 +482,39 @@ class MeshBody:
             normal = np.where((magnitude > 1e-12 * scale)[:, None], gradient, pseudo)
             return distance, closest, normal
         return self._query(p)  # type: ignore[operator]
+
+    def _topology(self) -> dict:
+        """Cached face normals, edge-to-faces and vertex-to-faces maps, and an AABB tree."""
+        if self._topo is None:
+            import igl
+
+            corners = self.vertices[self.faces]
+            normal = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
+            normal /= np.linalg.norm(normal, axis=1)[:, None]
+            edges = np.stack(
+                [self.faces[:, [0, 1]], self.faces[:, [1, 2]], self.faces[:, [2, 0]]], axis=1
+            ).reshape(-1, 2)
+            key = np.sort(edges, axis=1)
+            key = key[:, 0] * len(self.vertices) + key[:, 1]
+            order = np.argsort(key, kind="stable")
+            pairs = order.reshape(-1, 2)  # watertight: every edge has exactly two faces
+            edge_faces = np.empty((len(edges), 2), dtype=np.int64)
+            edge_faces[pairs[:, 0]] = (pairs // 3)[:, [0, 1]]
+            edge_faces[pairs[:, 1]] = (pairs // 3)[:, [0, 1]]
+            vertex_faces = [[] for _ in range(len(self.vertices))]
+            for f, (a, b, c) in enumerate(self.faces.tolist()):
+                vertex_faces[a].append(f)
+                vertex_faces[b].append(f)
+                vertex_faces[c].append(f)
+            tree = igl.AABB()
+            tree.init(self.vertices, self.faces)
+            self._topo = {
+                "face_normal": normal,
+                "edge_faces": edge_faces.reshape(-1, 3, 2),
+                "vertex_faces": [np.asarray(v) for v in vertex_faces],
+                "tree": tree,
+            }
+        return self._topo
 
     def sections(self, z: float) -> list[Segments]:
         _check_height(self, z)
@@ -599,3 +663,110 @@ def body_from_config(block: dict, base_dir: str | Path = ".") -> tuple[Body, dic
     else:
         raise InputError("no body given; use one of mesh, torso, cylinder, elliptic_cylinder, cone")
     return body, ref
+
+
+def _cone_remainder(force: NDArray[np.float64], normals: NDArray[np.float64]) -> NDArray:
+    """F + sum_j lambda_j n_j minimised over lambda >= 0 (what the body cannot balance), for
+    two generators per row ((P, 3) and (P, 2, 3)): closed form over the four active sets."""
+    best = force.copy()
+    best_norm = np.einsum("ij,ij->i", best, best)
+    n1, n2 = normals[:, 0], normals[:, 1]
+    for n in (n1, n2):  # one generator
+        lam = np.maximum(-np.einsum("ij,ij->i", force, n), 0.0)
+        rem = force + lam[:, None] * n
+        norm = np.einsum("ij,ij->i", rem, rem)
+        better = norm < best_norm
+        best[better], best_norm[better] = rem[better], norm[better]
+    g11, g22 = np.ones(len(force)), np.ones(len(force))
+    g12 = np.einsum("ij,ij->i", n1, n2)
+    b1, b2 = -np.einsum("ij,ij->i", force, n1), -np.einsum("ij,ij->i", force, n2)
+    det = g11 * g22 - g12**2
+    ok = det > 1e-12
+    with np.errstate(divide="ignore", invalid="ignore"):
+        l1 = (b1 * g22 - b2 * g12) / det
+        l2 = (b2 * g11 - b1 * g12) / det
+    ok &= (l1 >= 0) & (l2 >= 0)
+    rem = force + l1[:, None] * n1 + l2[:, None] * n2
+    norm = np.einsum("ij,ij->i", rem, rem)
+    better = ok & (norm < best_norm)
+    best[better] = rem[better]
+    return best
+
+
+#: A contact point within this fraction of its face's size from an edge (vertex) is on it.
+FEATURE_TOLERANCE = 1e-4
+
+
+def _feature(tri: NDArray[np.float64], point: NDArray[np.float64]) -> NDArray[np.int8]:
+    """Face, edge or vertex code (cloth.proximity) of points on triangles, with tolerance."""
+    from cloth.proximity import EDGE_AB, EDGE_BC, EDGE_CA, FACE, VERTEX_A, VERTEX_B, VERTEX_C
+
+    a, b, c = tri[:, 0], tri[:, 1], tri[:, 2]
+    v0, v1, v2 = b - a, c - a, point - a
+    d00, d01, d11 = (np.einsum("ij,ij->i", u, w) for u, w in ((v0, v0), (v0, v1), (v1, v1)))
+    d20, d21 = np.einsum("ij,ij->i", v2, v0), np.einsum("ij,ij->i", v2, v1)
+    den = d00 * d11 - d01 * d01
+    beta = (d11 * d20 - d01 * d21) / den
+    gamma = (d00 * d21 - d01 * d20) / den
+    alpha = 1.0 - beta - gamma
+    small = np.stack([alpha, beta, gamma], axis=1) < FEATURE_TOLERANCE
+    feature = np.full(len(point), FACE, dtype=np.int8)
+    feature[small[:, 2]] = EDGE_AB
+    feature[small[:, 0]] = EDGE_BC
+    feature[small[:, 1]] = EDGE_CA
+    feature[small[:, 1] & small[:, 2]] = VERTEX_A
+    feature[small[:, 0] & small[:, 2]] = VERTEX_B
+    feature[small[:, 0] & small[:, 1]] = VERTEX_C
+    return feature
+
+
+def mesh_contact_remainder(
+    body: MeshBody, points: NDArray, force: NDArray, horizontal: NDArray | None = None
+) -> NDArray:
+    """For nodes on a mesh body: the part of the spring force the body cannot balance.
+
+    A node on a face interior is balanced along the face normal; on an edge, by any non-negative
+    combination of the two faces' normals; on a vertex, of its faces' normals (the normal cone,
+    exact frictionless contact on a polyhedron; a tensioned ring on a faceted body rests on
+    edges, where a single pseudonormal would leave a spurious residual). Rows flagged in
+    ``horizontal`` (sliding edge nodes, whose vertical reaction comes from the edge support) are
+    treated in the horizontal plane: force and normals lose their z before the cone projection.
+    """
+    from scipy.optimize import nnls
+
+    from cloth.proximity import EDGE_AB, FACE, VERTEX_A
+
+    topo = body._topology()
+    _, face, closest = topo["tree"].squared_distance(body.vertices, body.faces, points)
+    feature = _feature(body.vertices[body.faces[face]], closest)
+    flat = np.zeros(len(points), bool) if horizontal is None else np.asarray(horizontal, bool)
+    force = force.copy()
+    force[flat, 2] = 0.0
+    out = force.copy()
+
+    def normal_of(faces: NDArray, rows: NDArray) -> NDArray:
+        n = topo["face_normal"][faces].copy()
+        level = flat[rows]
+        if np.any(level):
+            n[level, ..., 2] = 0.0
+            length = np.linalg.norm(n[level], axis=-1, keepdims=True)
+            n[level] = np.where(length > 1e-12, n[level] / np.maximum(length, 1e-300), 0.0)
+        return n
+
+    on_face = feature == FACE
+    n = normal_of(face[on_face], np.flatnonzero(on_face))
+    push = np.minimum(np.einsum("ij,ij->i", force[on_face], n), 0.0)
+    out[on_face] = force[on_face] - push[:, None] * n
+    on_edge = (feature >= EDGE_AB) & (feature < VERTEX_A)
+    if np.any(on_edge):
+        local = feature[on_edge] - EDGE_AB
+        other = topo["edge_faces"][face[on_edge], local]  # (E, 2) faces sharing the edge
+        rows = np.flatnonzero(on_edge)
+        out[on_edge] = _cone_remainder(force[on_edge], normal_of(other, rows))
+    for index in np.flatnonzero(feature >= VERTEX_A):
+        vertex = body.faces[face[index], feature[index] - VERTEX_A]
+        faces = topo["vertex_faces"][vertex]
+        gens = normal_of(faces, np.full(len(faces), index))
+        lam, _ = nnls(gens.T, -force[index])
+        out[index] = force[index] + gens.T @ lam
+    return out

@@ -15,6 +15,9 @@ from pathlib import Path
 from cloth import __version__
 from cloth.errors import EXIT_INPUT, InputError
 
+#: Exit status of a relaxation that diverged (its last finite state is written beside).
+EXIT_DIVERGED = 3
+
 log = logging.getLogger("cloth")
 
 Handler = Callable[[argparse.Namespace], int]
@@ -171,6 +174,75 @@ def _case_check(args: argparse.Namespace) -> int:
     return 0
 
 
+def _settings(args: argparse.Namespace, case: dict):
+    from cloth.solvers import Settings
+
+    block = dict(case.get("solver", {}))
+    for key in ("method", "tolerance", "max_iterations", "linear_solver", "log_every"):
+        value = getattr(args, key, None)
+        if value is not None:
+            block[key] = value
+    return Settings(**block)
+
+
+def _relax_state(state, base_dir, args, output: Path, previous: dict | None) -> int:
+    from cloth.bodies import body_from_config
+    from cloth.io import write_netcdf
+    from cloth.relaxfile import relaxed_dataset
+    from cloth.solvers import Diverged, relax
+
+    settings = _settings(args, state.case)
+    body, _ = body_from_config(state.case["body"], base_dir)
+    try:
+        result = relax(state, body, settings)
+    except Diverged as exc:
+        failed = output.with_name(output.stem + ".diverged.nc")
+        contact = state.contact
+        write_netcdf(
+            relaxed_dataset(state, exc.x, contact, exc.history, settings, False,
+                            len(exc.history) - 1, settings.linear_solver, 0.0, previous,
+                            stage="diverged"),
+            failed,
+        )  # fmt: skip
+        print(
+            f"cloth: error: relaxation diverged ({exc}); the last finite state is in {failed}; "
+            "try method explicit+newton or a smaller reduction",
+            file=sys.stderr,
+        )
+        return EXIT_DIVERGED
+    final = result.final
+    write_netcdf(
+        relaxed_dataset(state, final.x, final.on_body, result.history, settings,
+                        result.converged, result.iterations, result.linear_solver,
+                        result.seconds, previous),
+        output,
+    )  # fmt: skip
+    log.info("wrote %s", output)
+    return 0
+
+
+def _relax(args: argparse.Namespace) -> int:
+    from cloth.state import read_state
+
+    state, ds = read_state(args.initial)
+    base_dir = args.base_dir if args.base_dir is not None else Path(".")
+    return _relax_state(state, base_dir, args, args.output, dict(ds.attrs))
+
+
+def _run(args: argparse.Namespace) -> int:
+    from cloth.config import load_case
+    from cloth.io import write_netcdf
+    from cloth.predeform import predeform
+    from cloth.state import state_dataset
+
+    case = load_case(args.case)
+    base_dir = args.base_dir if args.base_dir is not None else args.case.parent
+    state = predeform(case, base_dir, str(args.case))
+    initial = state_dataset(state, "initial")
+    write_netcdf(initial, args.output / "initial.nc")
+    return _relax_state(state, base_dir, args, args.output / "relaxed.nc", dict(initial.attrs))
+
+
 def _positive_int(text: str) -> int:
     value = int(text)
     if value < 2:
@@ -275,6 +347,38 @@ def build_parser() -> argparse.ArgumentParser:
     pre.add_argument("--plot", type=Path, help="also write a 3D figure of the wrapped garment")
     pre.set_defaults(handler=_predeform)
 
+    def solver_options(command: argparse.ArgumentParser) -> None:
+        command.add_argument(
+            "--method", choices=["explicit", "newton", "explicit+newton"],
+            help="relaxation method (default: the case's solver block, else newton)",
+        )  # fmt: skip
+        command.add_argument("--tolerance", type=float, help="relative residual to stop at")
+        command.add_argument("--max-iterations", type=int, help="iteration limit")
+        command.add_argument(
+            "--linear-solver", choices=["auto", "superlu", "cholmod", "pardiso", "amg"],
+            help="Newton's sparse solver (default auto)",
+        )  # fmt: skip
+        command.add_argument("--log-every", type=int, help="log a line every N iterations")
+        command.add_argument(
+            "--base-dir", type=Path, help="folder the case's relative paths are relative to"
+        )
+
+    rel = commands.add_parser(
+        "relax",
+        help="initial.nc -> relaxed.nc (equilibrium on the body)",
+        description="Relax a wrapped garment to equilibrium (docs/solvers.md).",
+    )
+    rel.add_argument("initial", type=Path, help="initial.nc from cloth predeform")
+    rel.add_argument("-o", "--output", type=Path, required=True, help="relaxed.nc to write")
+    solver_options(rel)
+    rel.set_defaults(handler=_relax)
+
+    run = commands.add_parser("run", help="run every stage that exists for one case into a folder")
+    run.add_argument("case", type=Path, help="case YAML file")
+    run.add_argument("-o", "--output", type=Path, required=True, help="output folder")
+    solver_options(run)
+    run.set_defaults(handler=_run)
+
     case = commands.add_parser("case", help="case files: check, write")
     case_commands = case.add_subparsers(dest="case_command", required=True)
     case_check = case_commands.add_parser(
@@ -300,6 +404,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         format="%(asctime)s %(levelname)s %(name)s: %(message)s",
         stream=sys.stderr,
     )
+    from cloth.io import set_command
+
+    set_command(["cloth", *(sys.argv[1:] if argv is None else argv)])
     handler: Handler = args.handler
     try:
         return handler(args)

@@ -48,10 +48,19 @@ def atomic_output(path: str | Path) -> Iterator[Path]:
             tmp.unlink()
 
 
+_COMMAND: list[str] | None = None
+
+
+def set_command(argv: list[str]) -> None:
+    """Record the command line that `history_line` reports (the CLI sets it)."""
+    global _COMMAND
+    _COMMAND = list(argv)
+
+
 def history_line(argv: list[str] | None = None) -> str:
     """A CF ``history`` entry: UTC time and the command that made the file."""
     now = _dt.datetime.now(_dt.UTC).strftime("%Y-%m-%dT%H:%M:%SZ")
-    argv = sys.argv if argv is None else argv
+    argv = argv if argv is not None else _COMMAND if _COMMAND is not None else sys.argv
     command = shlex.join([Path(argv[0]).name, *argv[1:]]) if argv else "cloth"
     return f"{now}: {command} (cloth {__version__})"
 

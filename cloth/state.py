@@ -220,7 +220,7 @@ def state_from_dataset(ds: xr.Dataset, source: str = "state") -> State:
     x = np.stack([ds[c].values.ravel() for c in ("x", "y", "z")], axis=1).astype(np.float64)
     skip = {"Conventions", "title", "institution", "source", "cloth_version", "history",
             "cloth_kind", "format_version", "n", "m", "closed", "around", "fabric_name",
-            "provenance", "case", "body", "moduli"}  # fmt: skip
+            "provenance", "case", "body", "moduli", "stage"}  # fmt: skip
     return State(
         grid=grid,
         x=x,

@@ -88,5 +88,14 @@ def test_tiny_pipeline_end_to_end(tmp_path):
         ring = np.linalg.norm(np.roll(x, -1, axis=1) - x, axis=2).sum(axis=1)
         rest = initial["rest_length"].values[: 8 * 24].reshape(8, 24).sum(axis=1)
         np.testing.assert_allclose(ring / rest, 1 / 0.85, rtol=5e-3)
+    with xr.open_dataset(where / "results/cases/tiny/relaxed.nc") as relaxed:
+        assert relaxed.attrs["solver_converged"] == 1
+        residual = relaxed["residual"].values
+        assert residual[-1] <= 1e-3 < residual[0]
+        # relaxed on the body: the fabric is still stretched by about the pattern's reduction
+        x = np.stack([relaxed[c].values for c in ("x", "y", "z")], axis=-1)
+        ring = np.linalg.norm(np.roll(x, -1, axis=1) - x, axis=2).sum(axis=1)
+        assert np.all(ring / rest > 1.1)
+        assert float(relaxed["penetration"].values.max()) <= 1e-6
     again = snakemake(where, "--configfile", "config/ci.yaml", "-n")
     assert "Nothing to be done" in again.stdout + again.stderr

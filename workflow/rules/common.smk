@@ -84,6 +84,10 @@ def all_outputs():
         ["results/materials/{material}.nc", "results/materials/{material}.png"],
         material=sorted(config["materials"]),
     ) + expand(
-        ["results/cases/{case}/initial.nc", "results/cases/{case}/initial.png"],
+        [
+            "results/cases/{case}/initial.nc",
+            "results/cases/{case}/initial.png",
+            "results/cases/{case}/relaxed.nc",
+        ],
         case=sorted(CASES),
     )

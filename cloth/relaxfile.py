@@ -1,0 +1,74 @@
+"""Write a relaxation's outcome: the relaxed state plus history and solver attributes.
+
+``relaxed.nc`` is a state file (see `cloth.state`) with stage ``relaxed`` and, along the
+``iteration`` dimension (the initial state first): ``residual`` (1), ``energy`` (J),
+``penetration`` (m), ``contacts`` (count), ``step`` (m), ``iteration_method`` (0 explicit,
+1 newton). Global attributes: ``solver_method``, ``solver_converged`` (0/1),
+``solver_iterations``, ``solver_tolerance``, ``solver_residual``, ``solver_linear_solver``,
+``solver_seconds``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import xarray as xr
+
+from cloth.solvers.common import History, Settings
+from cloth.state import State, state_dataset
+
+
+def history_variables(history: History) -> dict[str, xr.Variable]:
+    dim = "iteration"
+
+    def var(values, units, long_name, dtype=np.float64, **attrs):
+        return xr.Variable(
+            dim, np.asarray(values, dtype=dtype), {"units": units, "long_name": long_name, **attrs}
+        )
+
+    return {
+        "residual": var(history.residual, "1", "largest free-node force / mean spring force"),
+        "energy": var(history.energy, "J", "total strain energy"),
+        "penetration": var(history.penetration, "m", "largest depth of a node inside the body"),
+        "contacts": var(history.contacts, "1", "nodes on the body", np.int32),
+        "step": var(history.step, "m", "largest node displacement of the iteration"),
+        "iteration_method": var(
+            history.method,
+            "1",
+            "solver of the iteration",
+            np.int8,
+            flag_values=np.array([0, 1], dtype=np.int8),
+            flag_meanings="explicit newton",
+        ),
+    }
+
+
+def relaxed_dataset(
+    state: State,
+    x: np.ndarray,
+    contact: np.ndarray,
+    history: History,
+    settings: Settings,
+    converged: bool,
+    iterations: int,
+    linear_solver: str,
+    seconds: float,
+    previous: dict | None = None,
+    stage: str = "relaxed",
+) -> xr.Dataset:
+    """The ``relaxed.nc`` dataset (``stage="diverged"`` for the last finite state of a failure)."""
+    relaxed = state.with_positions(
+        x,
+        contact=contact.astype(np.int8),
+        attrs={
+            **{k: v for k, v in state.attrs.items() if not k.startswith("solver_")},
+            "solver_method": settings.method,
+            "solver_converged": int(converged),
+            "solver_iterations": int(iterations),
+            "solver_tolerance": float(settings.tolerance),
+            "solver_residual": float(history.residual[-1]) if len(history) else float("nan"),
+            "solver_linear_solver": linear_solver,
+            "solver_seconds": float(seconds),
+        },
+    )
+    ds = state_dataset(relaxed, stage, previous)
+    return ds.assign(history_variables(history))

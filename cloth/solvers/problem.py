@@ -1,0 +1,114 @@
+"""The relaxation problem: a grid, a body, the nodes' constraints; evaluated at positions x."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from cloth.bodies import Body, MeshBody, mesh_contact_remainder
+from cloth.grid import Grid
+from cloth.mechanics import SpringState, energy, spring_forces, spring_state
+from cloth.solvers.common import (
+    CONTACT_TOLERANCE,
+    constraint_basis,
+    pushing,
+    relative_residual,
+    typical_force,
+)
+from cloth.state import SLIDING
+
+
+@dataclass(frozen=True)
+class Evaluation:
+    """Everything the solvers need at positions x ((N, 3), m).
+
+    forces (N, 3) N: resultant spring force R; distance (N,) m, closest (N, 3) m, normal (N, 3):
+    body query; on_body (N,) bool: nodes held by the body (on or inside it and pushed into it);
+    projector (N, 3, 3): allowed directions; free (N, 3) N: P R; unbalanced (N, 3) N: R less
+    the body's reaction (no edge constraints); residual (1); energy (J);
+    penetration (m, >= 0); springs: the spring state.
+    """
+
+    x: NDArray[np.float64]
+    springs: SpringState
+    forces: NDArray[np.float64]
+    distance: NDArray[np.float64]
+    closest: NDArray[np.float64]
+    normal: NDArray[np.float64]
+    on_body: NDArray[np.bool_]
+    projector: NDArray[np.float64]
+    free: NDArray[np.float64]
+    unbalanced: NDArray[np.float64]
+    typical: float
+    residual: float
+    energy: float
+    penetration: float
+
+
+@dataclass(frozen=True, eq=False)
+class Problem:
+    grid: Grid
+    body: Body
+    constraint: NDArray[np.int8]
+
+    def evaluate(self, x: NDArray[np.float64]) -> Evaluation:
+        from cloth.mechanics import _operators
+
+        springs = spring_state(x, self.grid)
+        spring_force = spring_forces(springs, self.grid)
+        forces = -(_operators(self.grid).incidence_t @ spring_force)
+        distance, closest, normal = self.body.query(x)
+        on_body = pushing(forces, normal, distance)
+        projector = constraint_basis(self.constraint, normal, on_body)
+        free = np.einsum("nij,nj->ni", projector, forces)
+        # what the body cannot balance (before edge constraints): the pressure's complement
+        push = np.minimum(np.einsum("ij,ij->i", forces, normal), 0.0)
+        unbalanced = forces - np.where(on_body, push, 0.0)[:, None] * normal
+        if isinstance(self.body, MeshBody) and np.any(on_body):
+            # the exact frictionless residual on a polyhedron: remove the normal cone, then
+            # what the edge constraints carry
+            held = np.flatnonzero(on_body)
+            remainder = mesh_contact_remainder(
+                self.body, x[held], forces[held], self.constraint[held] == SLIDING
+            )
+            edge_only = constraint_basis(
+                self.constraint[held], normal[held], np.zeros(len(held), bool)
+            )
+            free[held] = np.einsum("nij,nj->ni", edge_only, remainder)
+            unbalanced[held] = mesh_contact_remainder(self.body, x[held], forces[held])
+        typical = typical_force(np.linalg.norm(spring_force, axis=1), self.grid.family)
+        return Evaluation(
+            x=x,
+            springs=springs,
+            forces=forces,
+            distance=distance,
+            closest=closest,
+            normal=normal,
+            on_body=on_body,
+            projector=projector,
+            free=free,
+            unbalanced=unbalanced,
+            typical=typical,
+            residual=relative_residual(free, typical),
+            energy=energy(x, self.grid),
+            penetration=float(max(0.0, -distance.min())) if len(distance) else 0.0,
+        )
+
+    def project_out(
+        self, x: NDArray[np.float64], hold: NDArray[np.bool_] | None = None
+    ) -> NDArray[np.float64]:
+        """Move nodes inside the body, and the ``hold`` nodes wherever they are, onto its
+        surface (closest point)."""
+        distance, closest, _ = self.body.query(x)
+        inside = distance < 0.0
+        if hold is not None:
+            inside |= hold
+        if np.any(inside):
+            x = x.copy()
+            x[inside] = closest[inside]
+        return x
+
+    def contacts(self, ev: Evaluation) -> int:
+        return int(np.count_nonzero(ev.distance <= CONTACT_TOLERANCE))

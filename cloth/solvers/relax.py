@@ -1,0 +1,116 @@
+"""Run a relaxation: dispatch on the method, record history, report progress, detect failure."""
+
+from __future__ import annotations
+
+import logging
+import time
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+from tqdm import tqdm
+
+from cloth.bodies import Body
+from cloth.solvers.common import Diverged, History, Settings
+from cloth.solvers.explicit import MAX_STEP, explicit_step, shortest_rest
+from cloth.solvers.linear import choose
+from cloth.solvers.newton import newton_step
+from cloth.solvers.problem import Evaluation, Problem
+from cloth.state import State
+
+log = logging.getLogger(__name__)
+
+#: Energy growth (relative to the largest seen) that the explicit method treats as divergence.
+GROWTH = 10.0
+
+
+@dataclass(frozen=True)
+class Result:
+    """Outcome of `relax`: final evaluation, history and solver facts."""
+
+    final: Evaluation
+    history: History
+    converged: bool
+    iterations: int
+    method: str
+    linear_solver: str
+    seconds: float
+
+
+def _record(history: History, problem: Problem, ev: Evaluation, step: float, method: int) -> None:
+    history.record(ev.residual, ev.energy, ev.penetration, problem.contacts(ev), step, method)
+
+
+def _check(ev: Evaluation, last_good: NDArray, history: History, peak: float) -> None:
+    if not (np.isfinite(ev.energy) and np.all(np.isfinite(ev.x)) and np.isfinite(ev.residual)):
+        raise Diverged("the iteration produced NaN or inf positions or energy", last_good, history)
+    if ev.energy > GROWTH * max(peak, 1e-300) and ev.energy > 0:
+        raise Diverged(
+            f"the energy grew from {peak:.4g} J to {ev.energy:.4g} J", last_good, history
+        )
+
+
+def relax(state: State, body: Body, settings: Settings) -> Result:
+    """Relax ``state`` on ``body`` to equilibrium (or the iteration limit).
+
+    Raises `Diverged` (with the last finite positions and the history) on NaN or energy growth.
+    """
+    problem = Problem(state.grid, body, state.constraint)
+    solver = choose(settings.linear_solver) if settings.method != "explicit" else "none"
+    history = History()
+    start = time.perf_counter()
+    ev = problem.evaluate(problem.project_out(state.x))
+    _record(history, problem, ev, 0.0, 0)
+    peak = max(ev.energy, 1e-300)
+    phases: list[tuple[str, int]] = []
+    if settings.method in ("explicit", "explicit+newton"):
+        count = settings.max_iterations if settings.method == "explicit" else settings.warm_start
+        phases.append(("explicit", count))
+    if settings.method in ("newton", "explicit+newton"):
+        phases.append(("newton", settings.max_iterations))
+    cap = MAX_STEP * shortest_rest(problem)
+    total = sum(count for _, count in phases)
+    iterations = 0
+    with tqdm(
+        total=total, disable=settings.progress is False if settings.progress is not None else None,
+        desc="relax", unit="it", miniters=1, leave=False,
+    ) as bar:  # fmt: skip
+        for phase, count in phases:
+            for _ in range(count):
+                if ev.residual <= settings.tolerance:
+                    break
+                if phase == "explicit":
+                    x, move = explicit_step(problem, ev, cap)
+                    new = problem.evaluate(x)
+                    ok = True
+                else:
+                    new, move, ok = newton_step(problem, ev, solver)
+                _check(new, ev.x, history, peak)
+                peak = max(peak, new.energy)
+                ev = new
+                iterations += 1
+                _record(history, problem, ev, move, 0 if phase == "explicit" else 1)
+                bar.update(1)
+                bar.set_postfix(residual=f"{ev.residual:.2e}", refresh=False)
+                if settings.log_every and iterations % settings.log_every == 0:
+                    log.info(
+                        "%s iteration %d: residual %.3e, energy %.9g J, %d nodes on the body, "
+                        "penetration %.2e m",
+                        phase, iterations, ev.residual, ev.energy, history.contacts[-1],
+                        ev.penetration,
+                    )  # fmt: skip
+                if not ok:
+                    log.warning(
+                        "newton: the line search found no decrease at residual %.3e; stopping",
+                        ev.residual,
+                    )
+                    break
+    converged = ev.residual <= settings.tolerance
+    seconds = time.perf_counter() - start
+    message = (
+        f"{settings.method}: {'converged' if converged else 'NOT converged'} after {iterations} "
+        f"iterations, relative residual {ev.residual:.3e} (tolerance {settings.tolerance:.1e}), "
+        f"{seconds:.2f} s"
+    )
+    (log.info if converged else log.warning)(message)
+    return Result(ev, history, converged, iterations, settings.method, solver, seconds)

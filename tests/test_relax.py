@@ -1,0 +1,195 @@
+"""Relaxation validated against Laplace's law, orthotropy, the ellipse, and solver agreement."""
+
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+import pytest
+
+from cloth.bodies import EllipticCylinder, body_from_config
+from cloth.grid import WEFT
+from cloth.predeform import predeform
+from cloth.pressure import contact_reaction, node_area
+from cloth.solvers import Settings, relax
+
+THICKNESS = 0.55e-3  # the example fabric's
+
+
+def tube(body, reduction, n=64, m=6, around="weft"):
+    case = {
+        "material": "powernet",
+        "body": body,
+        "garment": {
+            "bottom": 0.1, "top": 0.4, "reduction": reduction, "grid": [n, m],
+            "edges": "sliding", "around": around,
+        },
+    }  # fmt: skip
+    return predeform(case)
+
+
+def solve(state, method="newton", tolerance=1e-10, iterations=60):
+    body, _ = body_from_config(state.case["body"])
+    settings = Settings(
+        method=method, tolerance=tolerance, max_iterations=iterations, progress=False
+    )
+    return relax(state, body, settings)
+
+
+def pressure(state, result):
+    ev = result.final
+    held = ev.on_body
+    reaction = contact_reaction(ev.forces, ev.unbalanced, held)
+    area = node_area(ev.x, state.grid)
+    return held, np.linalg.norm(reaction, axis=1) / area
+
+
+def hoop_tension(state, result):
+    """N m-1: weft spring force over its tributary width (area / thickness), interior rows."""
+    grid = state.grid
+    weft = grid.family_slices[WEFT]
+    force = np.abs(grid.area[weft] * result.final.springs.stress[weft])
+    return (force / (grid.area[weft] / state.fabric.thickness)).reshape(grid.m, grid.n)
+
+
+@pytest.mark.parametrize("radius", [0.05, 0.10, 0.15])
+@pytest.mark.parametrize("reduction", [0.1, 0.2, 0.3])
+def test_laplace_on_cylinders(radius, reduction):
+    state = tube({"cylinder": {"radius": radius, "bottom": 0.0, "top": 0.5}}, reduction)
+    result = solve(state)
+    assert result.converged
+    tension = hoop_tension(state, result)
+    assert tension.max() / tension.min() - 1 < 1e-3
+    eps = 1 / (1 - reduction) - 1
+    expected = float(state.fabric.weft.stress(eps)) * THICKNESS / radius
+    held, p = pressure(state, result)
+    assert np.all(held)
+    np.testing.assert_allclose(p, expected, rtol=5e-3)
+    assert max(result.history.penetration) <= 1e-6
+
+
+def test_orthotropy_warp_around():
+    body = {"cylinder": {"radius": 0.1, "bottom": 0.0, "top": 0.5}}
+    weft = tube(body, 0.2)
+    warp = tube(body, 0.2, around="warp")
+    p_weft = pressure(weft, solve(weft))[1]
+    p_warp = pressure(warp, solve(warp))[1]
+    eps = 1 / 0.8 - 1
+    ratio = float(weft.fabric.warp.stress(eps) / weft.fabric.weft.stress(eps))
+    assert ratio > 1.2  # the fabric really is orthotropic
+    np.testing.assert_allclose(p_warp / p_weft, ratio, rtol=5e-3)
+
+
+def test_elliptic_cylinder_tension_and_curvature():
+    state = tube(
+        {"elliptic_cylinder": {"a": 0.15, "b": 0.10, "bottom": 0.0, "top": 0.5}}, 0.2, n=128
+    )
+    result = solve(state)
+    assert result.converged
+    tension = hoop_tension(state, result)
+    assert tension.max() / tension.min() - 1 < 1e-2
+    held, p = pressure(state, result)
+    ellipse = EllipticCylinder(0.15, 0.10)
+    kappa = ellipse.curvature(result.final.closest[:, :2])
+    # the node's pressure against T kappa, with T the mean of its two weft springs
+    t_node = 0.5 * (tension + np.roll(tension, 1, axis=1)).ravel()
+    np.testing.assert_allclose(p[held], (t_node * kappa)[held], rtol=2e-2)
+
+
+def test_newton_converges_quadratically_without_penetration():
+    state = tube(
+        {"elliptic_cylinder": {"a": 0.15, "b": 0.10, "bottom": 0.0, "top": 0.5}}, 0.2, n=96
+    )
+    result = solve(state, tolerance=1e-8)
+    r = np.array(result.history.residual)
+    assert result.converged and r[-1] <= 1e-8
+    # the last steps: r_next <= C r^1.6 with C = e^2 (quadratic convergence gives ~ r^2)
+    tail = [(a, b) for a, b in itertools.pairwise(r) if a < 1e-2]
+    assert tail, r
+    for a, b in tail:
+        assert np.log(b) <= 1.6 * np.log(a) + 2, r
+    assert max(result.history.penetration) <= 1e-6
+
+
+def test_newton_and_explicit_agree():
+    body = {"elliptic_cylinder": {"a": 0.15, "b": 0.10, "bottom": 0.0, "top": 0.5}}
+    state = tube(body, 0.2, n=32, m=4)
+    explicit = solve(state, method="explicit", tolerance=1e-7, iterations=20000)
+    newton = solve(state, tolerance=1e-11)
+    assert explicit.converged and newton.converged
+    r = explicit.history.residual[-1]
+    forces_e = state.grid.area * explicit.final.springs.stress
+    forces_n = state.grid.area * newton.final.springs.stress
+    typical = np.mean(np.abs(forces_n))
+    assert np.max(np.abs(forces_e - forces_n)) <= 100 * r * typical
+    # positions: a residual force r x typical moves a node by about that over its stiffness
+    stiffness = typical / np.min(state.grid.rest_length)
+    assert np.max(np.abs(explicit.final.x - newton.final.x)) <= 100 * r * typical / stiffness
+
+
+def test_explicit_uses_the_papers_default_of_300_iterations():
+    assert Settings(method="explicit").max_iterations == 300
+    state = tube(
+        {"elliptic_cylinder": {"a": 0.15, "b": 0.10, "bottom": 0.0, "top": 0.5}}, 0.2, n=32, m=4
+    )
+    result = solve(state, method="explicit", tolerance=1e-12, iterations=300)
+    assert result.iterations == 300 and not result.converged
+    r = np.array(result.history.residual)
+    assert r[-1] < 1e-2 * r[0]  # it made real progress
+    steps = np.array(result.history.step[1:])
+    assert np.all(steps >= 0) and steps[-1] < steps[0]
+
+
+def test_bad_settings_are_refused():
+    from cloth.errors import InputError
+
+    for bad in (
+        {"method": "verlet"},
+        {"linear_solver": "mumps"},
+        {"tolerance": 0.0},
+        {"tolerance": -1e-8},
+    ):
+        with pytest.raises(InputError):
+            Settings(**bad)
+
+
+def test_relax_cli_and_bad_input(tmp_path, capsys):
+    import xarray as xr
+
+    from cloth.cli import main
+    from cloth.io import write_netcdf
+    from cloth.state import state_dataset
+
+    state = tube({"cylinder": {"radius": 0.1, "bottom": 0.0, "top": 0.5}}, 0.2, n=24, m=3)
+    initial = write_netcdf(state_dataset(state, "initial"), tmp_path / "initial.nc")
+    out = tmp_path / "relaxed.nc"
+    assert main(["--log-level", "WARNING", "relax", str(initial), "-o", str(out)]) == 0
+    with xr.open_dataset(out) as ds:
+        assert ds.attrs["solver_converged"] == 1 and ds["residual"].values[-1] <= 1e-8
+        assert ds.attrs["stage"] == "relaxed" and " relax " in ds.attrs["history"].splitlines()[-1]
+    capsys.readouterr()
+
+    ds = state_dataset(state, "initial")
+    write_netcdf(ds.drop_vars("x"), tmp_path / "missing.nc")
+    old = ds.copy()
+    old.attrs["format_version"] = 0
+    write_netcdf(old, tmp_path / "old.nc")
+    (tmp_path / "corrupt.nc").write_bytes(b"CDF\x01 truncated")
+    cases = [
+        ([str(tmp_path / "missing.nc")], "missing variable 'x'"),
+        ([str(tmp_path / "old.nc")], "format version"),
+        ([str(tmp_path / "corrupt.nc")], "not a readable netCDF"),
+        ([str(tmp_path / "nope.nc")], "file not found"),
+        ([str(initial), "--tolerance", "0"], "tolerance"),
+        ([str(initial), "--tolerance=-1e-8"], "tolerance"),
+        ([str(initial), "--linear-solver", "cholmod"], "not installed"),
+    ]
+    for args, expected in cases:
+        target = tmp_path / "bad.nc"
+        assert main(["relax", *args, "-o", str(target)]) == 2, args
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and expected in err[0], (args, err)
+        assert not target.exists()
+    with pytest.raises(SystemExit) as info:  # argparse: unknown method
+        main(["relax", str(initial), "-o", str(tmp_path / "x.nc"), "--method", "verlet"])
+    assert info.value.code == 2

@@ -1,0 +1,19 @@
+# Stage 3: initial.nc -> relaxed.nc (static equilibrium on the body) with solver history.
+
+
+rule relax:
+    input:
+        "results/cases/{case}/initial.nc",
+    output:
+        "results/cases/{case}/relaxed.nc",
+    log:
+        "logs/relax/{case}.log",
+    benchmark:
+        "benchmarks/results/relax/{case}.tsv"
+    conda:
+        "../envs/cloth.yaml"
+    threads: 2
+    params:
+        cloth_version=CLOTH_VERSION,
+    shell:
+        "cloth relax {input:q} -o {output:q} --base-dir . > {log:q} 2>&1"
