@@ -15,6 +15,8 @@ include: "workflow/rules/common.smk"
 include: "workflow/rules/materials.smk"
 include: "workflow/rules/predeform.smk"
 include: "workflow/rules/relax.smk"
+include: "workflow/rules/aggregate.smk"
+include: "workflow/rules/figures.smk"
 
 
 rule all:

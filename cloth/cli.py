@@ -243,6 +243,45 @@ def _run(args: argparse.Namespace) -> int:
     return _relax_state(state, base_dir, args, args.output / "relaxed.nc", dict(initial.attrs))
 
 
+def _aggregate(args: argparse.Namespace) -> int:
+    from cloth.aggregate import aggregate
+    from cloth.io import write_netcdf
+    from cloth.resultfile import write_summary
+
+    base_dir = args.base_dir if args.base_dir is not None else Path(".")
+    ds, rows = aggregate(args.relaxed, base_dir)
+    write_netcdf(ds, args.output)
+    if args.summary:
+        write_summary(rows, args.summary)
+    if not int(ds.attrs["converged"]):
+        log.warning("%s: the relaxation did not converge; results are marked so", args.relaxed)
+    for row in rows:
+        log.info(
+            "%s: pressure mean %.4g Pa (%.3g mmHg, RAL %s), max %.3g mmHg",
+            row["landmark"], row["pressure_mean_Pa"], row["pressure_mean_mmHg"],
+            row["ral_gz_387_class"], row["pressure_max_mmHg"],
+        )  # fmt: skip
+    return 0
+
+
+def _plot(args: argparse.Namespace) -> int:
+    from cloth.io import read_netcdf
+    from cloth.plots import plot_result
+
+    ds = read_netcdf(args.result, "result", ("stress_weft", "pressure", "u", "v"))
+    plot_result(ds, args.output, args.stress_range, args.pressure_range)
+    return 0
+
+
+def _export(args: argparse.Namespace) -> int:
+    from cloth.export import export
+    from cloth.io import read_netcdf
+
+    export(read_netcdf(args.result, "result", ("x", "y", "z")), args.output, args.field)
+    log.info("wrote %s", args.output)
+    return 0
+
+
 def _positive_int(text: str) -> int:
     value = int(text)
     if value < 2:
@@ -378,6 +417,39 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("-o", "--output", type=Path, required=True, help="output folder")
     solver_options(run)
     run.set_defaults(handler=_run)
+
+    agg = commands.add_parser(
+        "aggregate",
+        help="relaxed.nc -> result.nc (+ summary.csv): stresses, pressure, landmarks",
+        description="Compute node and spring stresses, body pressure and summaries "
+        "(docs/outputs.md).",
+    )
+    agg.add_argument("relaxed", type=Path, help="relaxed.nc from cloth relax")
+    agg.add_argument("-o", "--output", type=Path, required=True, help="result.nc to write")
+    agg.add_argument("--summary", type=Path, help="also write the landmark summary CSV")
+    agg.add_argument(
+        "--base-dir", type=Path, help="folder the case's relative paths are relative to"
+    )
+    agg.set_defaults(handler=_aggregate)
+
+    plot = commands.add_parser("plot", help="result.nc -> figures (PNG) in a folder")
+    plot.add_argument("result", type=Path, help="result.nc from cloth aggregate")
+    plot.add_argument("-o", "--output", type=Path, required=True, help="folder for the figures")
+    plot.add_argument(
+        "--stress-range", type=float, nargs=2, metavar=("LOW", "HIGH"),
+        help="fixed colour range of the stress maps, Pa (to compare runs)",
+    )  # fmt: skip
+    plot.add_argument(
+        "--pressure-range", type=float, nargs=2, metavar=("LOW", "HIGH"),
+        help="fixed colour range of the pressure map, mmHg",
+    )  # fmt: skip
+    plot.set_defaults(handler=_plot)
+
+    exp = commands.add_parser("export", help="result.nc -> .ply, .vtu or .csv")
+    exp.add_argument("result", type=Path, help="result.nc from cloth aggregate")
+    exp.add_argument("-o", "--output", type=Path, required=True, help="file: .ply, .vtu, .csv")
+    exp.add_argument("--field", default="stress_weft", help="field coloured in the PLY")
+    exp.set_defaults(handler=_export)
 
     case = commands.add_parser("case", help="case files: check, write")
     case_commands = case.add_subparsers(dest="case_command", required=True)

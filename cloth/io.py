@@ -84,6 +84,10 @@ def to_attr(value: object) -> str | int | float:
     """A netCDF-safe attribute value: dicts/lists/None as JSON, bools as 0/1."""
     if isinstance(value, bool | np.bool_):
         return int(value)
+    if isinstance(value, np.integer):
+        return int(value)
+    if isinstance(value, np.floating):
+        return float(value)
     if isinstance(value, str | int | float) and not isinstance(value, bool):
         return value
     return json.dumps(value, default=str, sort_keys=True)

@@ -142,3 +142,105 @@ def plot_garment_3d(
     ax.view_init(elev=15, azim=-60)
     ax.set_title(title, fontsize=10)
     return _save(fig, path)
+
+
+def _status(ds: xr.Dataset) -> str:
+    return "" if int(ds.attrs.get("converged", 1)) else " (NOT CONVERGED)"
+
+
+def _flat_map(ds, name, path, scale=1.0, label=None, vmin=None, vmax=None, levels=None):
+    from matplotlib import colors  # noqa: F401
+
+    fig, ax = plt.subplots(figsize=(7.0, 4.4), layout="constrained")
+    u, v = ds["u"].values, ds["v"].values
+    values = ds[name].values * scale
+    mesh = ax.pcolormesh(u, v, values, shading="gouraud", cmap="viridis", vmin=vmin, vmax=vmax)
+    if levels is not None:
+        finite = values[np.isfinite(values)]
+        usable = [lv for lv in levels if finite.size and finite.min() < lv < finite.max()]
+        if usable:
+            lines = ax.contour(u, v, values, levels=usable, colors="white", linewidths=0.8)
+            ax.clabel(lines, fmt="%g", fontsize=7)
+    var = ds[name]
+    fig.colorbar(mesh, ax=ax, label=label or f"{var.attrs['long_name']} [{var.attrs['units']}]")
+    ax.set_xlabel("u, around (weft) [m]")
+    ax.set_ylabel("v, up (warp) [m]")
+    ax.set_aspect("equal")
+    ax.set_title(
+        f"{ds.attrs.get('fabric_name', '')}: {var.attrs['long_name']}{_status(ds)}", fontsize=10
+    )
+    return _save(fig, path)
+
+
+def plot_result(
+    ds: xr.Dataset,
+    folder: str | Path,
+    stress_range: tuple[float, float] | None = None,
+    pressure_range: tuple[float, float] | None = None,
+) -> list[Path]:
+    """Every figure of a result: stress maps (the paper's Figure 4), the garment in 3D (its
+    Figure 3), pressure in mmHg with the RAL class bounds, landmark profiles, convergence,
+    material curves. Fixed colour ranges (Pa, mmHg) make runs comparable."""
+    from cloth.aggregate import RAL_CLASSES
+
+    folder = Path(folder)
+    s_lo, s_hi = stress_range or (None, None)
+    p_lo, p_hi = pressure_range or (None, None)
+    paths = [
+        _flat_map(ds, "stress_weft", folder / "stress_weft.png", vmin=s_lo, vmax=s_hi),
+        _flat_map(ds, "stress_warp", folder / "stress_warp.png", vmin=s_lo, vmax=s_hi),
+    ]
+    bounds = sorted({b for _, lo, hi in RAL_CLASSES for b in (lo, hi) if np.isfinite(b)})
+    paths.append(
+        _flat_map(ds, "pressure_mmHg", folder / "pressure.png", vmin=p_lo, vmax=p_hi, levels=bounds)
+    )
+    n, m = int(ds.attrs["n"]), int(ds.attrs["m"])
+    x = np.stack([ds[c].values.ravel() for c in ("x", "y", "z")], axis=1)
+    paths.append(
+        plot_garment_3d(
+            x,
+            n,
+            m,
+            ds["stress_weft"].values.ravel() / 1e3,
+            "weft stress [kPa]",
+            folder / "garment_stress.png",
+            title=f"garment on the body after relaxation{_status(ds)}",
+            vmin=None if s_lo is None else s_lo / 1e3,
+            vmax=None if s_hi is None else s_hi / 1e3,
+        )
+    )
+    fig, ax = plt.subplots(figsize=(6.4, 4.0), layout="constrained")
+    angle = np.linspace(0, 360, n, endpoint=False)
+    for index, name in enumerate(ds["landmark"].values.tolist()):
+        row = int(
+            np.argmin(np.abs(ds["z"].values.mean(axis=1) - float(ds["landmark_height"][index])))
+        )
+        ax.plot(
+            angle,
+            ds["pressure_mmHg"].values[row],
+            label=f"{name} ({float(ds['landmark_height'][index]):.3f} m)",
+        )
+    for name, lo, hi in RAL_CLASSES[:3]:
+        ax.axhspan(lo, hi, alpha=0.08, color="tab:red")
+        ax.text(358, (lo + hi) / 2, f"RAL {name}", ha="right", va="center", fontsize=7)
+    ax.set_xlabel("position around, from the centre back [degrees]")
+    ax.set_ylabel("pressure [mmHg]")
+    ax.set_title(f"pressure along the girth lines{_status(ds)}", fontsize=10)
+    ax.grid(alpha=0.3)
+    if len(ds["landmark"]):
+        ax.legend(fontsize=8)
+    paths.append(_save(fig, folder / "landmarks.png"))
+    fig, ax = plt.subplots(figsize=(6.0, 4.0), layout="constrained")
+    if "residual" in ds:
+        ax.semilogy(np.arange(ds.sizes["iteration"]), ds["residual"].values, "o-", ms=3)
+        tol = ds.attrs.get("solver_tolerance")
+        if tol:
+            ax.axhline(float(tol), color="k", lw=0.8, ls="--", label="tolerance")
+            ax.legend()
+    ax.set_xlabel("iteration")
+    ax.set_ylabel("relative residual [1]")
+    ax.set_title(f"convergence ({ds.attrs.get('solver_method', '')}){_status(ds)}", fontsize=10)
+    ax.grid(alpha=0.3, which="both")
+    paths.append(_save(fig, folder / "convergence.png"))
+    paths.append(plot_material(ds, folder / "material.png"))
+    return paths

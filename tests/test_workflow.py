@@ -97,5 +97,17 @@ def test_tiny_pipeline_end_to_end(tmp_path):
         ring = np.linalg.norm(np.roll(x, -1, axis=1) - x, axis=2).sum(axis=1)
         assert np.all(ring / rest > 1.1)
         assert float(relaxed["penetration"].values.max()) <= 1e-6
+    with xr.open_dataset(where / "results/cases/tiny/result.nc") as result:
+        # the body carries what the fabric pushes: pressure x area sums to the normal reactions
+        assert float(result["pressure_integral"]) == pytest.approx(
+            float(result["normal_force"]), rel=1e-9
+        )
+        # the garment spans 0.90-1.15 m: the hip line (0.86 m) and the bust (1.22 m) lie outside
+        assert set(result["landmark"].values.tolist()) == {"waist", "underbust"}
+        waist = float(result["pressure_mean"].sel(landmark="waist"))
+        assert 300 < waist < 5000  # a 15 % reduction of power net: shapewear range, Pa
+    summary = (where / "results/cases/tiny/summary.csv").read_text().splitlines()
+    assert len(summary) == 3 and "pressure_mean_mmHg" in summary[0]
+    assert len(list((where / "results/cases/tiny/figures").glob("*.png"))) == 7
     again = snakemake(where, "--configfile", "config/ci.yaml", "-n")
     assert "Nothing to be done" in again.stdout + again.stderr

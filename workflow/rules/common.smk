@@ -88,6 +88,9 @@ def all_outputs():
             "results/cases/{case}/initial.nc",
             "results/cases/{case}/initial.png",
             "results/cases/{case}/relaxed.nc",
+            "results/cases/{case}/result.nc",
+            "results/cases/{case}/summary.csv",
+            "results/cases/{case}/figures/stress_weft.png",
         ],
         case=sorted(CASES),
     )

@@ -1,0 +1,256 @@
+"""Results: spring and node stresses (the paper's Figure 4), body pressure, landmarks, summaries.
+
+Per spring k: strain eps_k and stress sigma_k = |S_k| / A_k (the paper's definition).
+Per node (the paper's node stress): the average of sigma_k over the weft springs that meet the
+node, and separately over the warp springs (`stress_weft`, `stress_warp`, Pa); likewise strains
+and tensions T = sigma x thickness (N m-1).
+
+Pressure: the body's normal reaction on each node over the node's deformed tributary area
+(`cloth.pressure`). Generalised Laplace diagnostic: p_laplace = T_weft kappa_weft +
+T_warp kappa_warp with kappa the curvature of the deformed weft and warp grid lines at the node
+along the body normal (discrete: the circle through the node and its two neighbours).
+
+Landmarks: girth lines (the parametric torso's bust, underbust, waist and hip from its size
+chart, or heights given in the case) -> the grid row nearest each height: mean, max and min
+pressure in Pa, kPa and mmHg with the RAL-GZ 387 compression class and the comfort group of
+knitted garments they fall in, and the mean hoop tension.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+from numpy.typing import NDArray
+
+from cloth.grid import WARP, WEFT, Grid
+from cloth.mechanics import SpringState
+from cloth.pressure import contact_reaction, node_area
+
+MMHG = 133.322  # Pa
+#: RAL-GZ 387 medical compression classes, mmHg (class: lower, upper).
+RAL_CLASSES = (("I", 18.0, 21.0), ("II", 23.0, 32.0), ("III", 34.0, 46.0), ("IV", 49.0, np.inf))
+#: Comfort groups of knitted compression garments, kPa.
+COMFORT_GROUPS = (("I", 0.4, 1.3), ("II", 1.3, 2.0), ("III", 2.0, 3.3), ("IV", 3.3, np.inf))
+
+
+def ral_class(mmhg: float) -> str:
+    """RAL-GZ 387 class of a pressure in mmHg ('-' below class I or between classes)."""
+    for name, low, high in RAL_CLASSES:
+        if low <= mmhg <= high:
+            return name
+    return "-"
+
+
+def comfort_group(kpa: float) -> str:
+    for name, low, high in COMFORT_GROUPS:
+        if low <= kpa < high:
+            return name
+    return "-"
+
+
+def node_average(grid: Grid, values: NDArray[np.float64], family: int) -> NDArray[np.float64]:
+    """(N,) mean of a per-spring quantity over the springs of ``family`` meeting each node."""
+    sl = grid.family_slices[family]
+    ends = grid.ends[sl]
+    total = np.bincount(ends[:, 0], values[sl], grid.n_nodes)
+    total += np.bincount(ends[:, 1], values[sl], grid.n_nodes)
+    count = np.bincount(ends[:, 0], minlength=grid.n_nodes) + np.bincount(
+        ends[:, 1], minlength=grid.n_nodes
+    )
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.where(count > 0, total / np.maximum(count, 1), np.nan)
+
+
+def line_curvature(
+    x: NDArray[np.float64], normal: NDArray[np.float64], grid: Grid, along: str
+) -> NDArray[np.float64]:
+    """(N,) signed curvature (m-1, positive when the line bends around the body) of the weft
+    ('weft': around) or warp ('warp': up) grid line through each node; NaN at open ends."""
+    pts = x.reshape(grid.m, grid.n, 3)
+    nrm = normal.reshape(grid.m, grid.n, 3)
+    axis = 1 if along == "weft" else 0
+    if axis == 1 and grid.closed:
+        prev, nxt = np.roll(pts, 1, axis=1), np.roll(pts, -1, axis=1)
+        valid = np.ones((grid.m, grid.n), bool)
+    else:
+        prev, nxt = np.roll(pts, 1, axis=axis), np.roll(pts, -1, axis=axis)
+        valid = np.ones((grid.m, grid.n), bool)
+        index = [slice(None), slice(None)]
+        index[axis] = [0, -1]
+        valid[tuple(index)] = False
+    a, b = prev - pts, nxt - pts
+    chord = nxt - prev
+    cross = np.linalg.norm(np.cross(a, b), axis=2)
+    denom = np.linalg.norm(a, axis=2) * np.linalg.norm(b, axis=2) * np.linalg.norm(chord, axis=2)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        kappa = 2.0 * cross / denom  # circle through three points
+    bend = a + b  # points towards the centre of curvature
+    sign = -np.sign(np.einsum("ijk,ijk->ij", bend, nrm))  # towards the body = positive
+    out = np.where(valid, kappa * sign, np.nan)
+    return out.ravel()
+
+
+@dataclass(frozen=True)
+class Fields:
+    """Per-node and per-spring results (see the module docstring); SI units."""
+
+    spring_strain: NDArray[np.float64]
+    spring_stress: NDArray[np.float64]
+    stress_weft: NDArray[np.float64]
+    stress_warp: NDArray[np.float64]
+    strain_weft: NDArray[np.float64]
+    strain_warp: NDArray[np.float64]
+    tension_weft: NDArray[np.float64]
+    tension_warp: NDArray[np.float64]
+    pressure: NDArray[np.float64]
+    p_laplace: NDArray[np.float64]
+    area: NDArray[np.float64]
+    reaction: NDArray[np.float64]
+    contact: NDArray[np.int8]
+    total_force: NDArray[np.float64]
+    total_moment: NDArray[np.float64]
+    normal_force: float
+    pressure_integral: float
+
+
+def node_fields(
+    grid: Grid,
+    x: NDArray[np.float64],
+    springs: SpringState,
+    thickness: float,
+    forces: NDArray[np.float64] | None = None,
+    unbalanced: NDArray[np.float64] | None = None,
+    held: NDArray[np.bool_] | None = None,
+    normal: NDArray[np.float64] | None = None,
+) -> Fields:
+    """All per-node and per-spring results at positions x ((N, 3), m).
+
+    ``forces``, ``unbalanced``, ``held`` and ``normal`` come from the relaxation's final
+    evaluation (`cloth.solvers.problem.Evaluation`); without them (a fabric off any body) the
+    pressure is zero.
+    """
+    stress = np.abs(springs.stress)  # sigma_k = |S_k| / A_k
+    strain = springs.strain
+    count = grid.n_nodes
+    if held is None:
+        held = np.zeros(count, bool)
+        forces = unbalanced = np.zeros((count, 3))
+        normal = np.zeros((count, 3))
+    reaction = contact_reaction(forces, unbalanced, held)
+    area = node_area(x, grid)
+    magnitude = np.linalg.norm(reaction, axis=1)
+    pressure = np.where(held, magnitude / area, 0.0)
+    stress_weft = node_average(grid, stress, WEFT)
+    stress_warp = node_average(grid, stress, WARP)
+    tension_weft, tension_warp = stress_weft * thickness, stress_warp * thickness
+    kappa_weft = line_curvature(x, normal, grid, "weft")
+    kappa_warp = line_curvature(x, normal, grid, "warp")
+    p_laplace = tension_weft * kappa_weft + tension_warp * np.nan_to_num(kappa_warp)
+    return Fields(
+        spring_strain=strain,
+        spring_stress=stress,
+        stress_weft=stress_weft,
+        stress_warp=stress_warp,
+        strain_weft=node_average(grid, strain, WEFT),
+        strain_warp=node_average(grid, strain, WARP),
+        tension_weft=tension_weft,
+        tension_warp=tension_warp,
+        pressure=pressure,
+        p_laplace=np.where(held, p_laplace, np.nan),
+        area=area,
+        reaction=reaction,
+        contact=held.astype(np.int8),
+        total_force=reaction.sum(axis=0) * -1.0,  # the fabric's force on the body
+        total_moment=-np.cross(x, reaction).sum(axis=0),
+        normal_force=float(magnitude.sum()),
+        pressure_integral=float(np.sum(pressure * area)),
+    )
+
+
+@dataclass(frozen=True)
+class Landmark:
+    name: str
+    height: float  # m
+    row: int
+    mean: float  # Pa
+    max: float
+    min: float
+    tension: float  # N m-1, mean hoop tension of the row
+
+    def record(self) -> dict[str, object]:
+        """A summary row with Pa, kPa, mmHg and the classes."""
+        return {
+            "landmark": self.name,
+            "height_m": self.height,
+            "row": self.row,
+            "pressure_mean_Pa": self.mean,
+            "pressure_max_Pa": self.max,
+            "pressure_min_Pa": self.min,
+            "pressure_mean_kPa": self.mean / 1e3,
+            "pressure_mean_mmHg": self.mean / MMHG,
+            "pressure_max_mmHg": self.max / MMHG,
+            "pressure_min_mmHg": self.min / MMHG,
+            "ral_gz_387_class": ral_class(self.mean / MMHG),
+            "comfort_group": comfort_group(self.mean / 1e3),
+            "tension_weft_mean_N_per_m": self.tension,
+        }
+
+
+def landmarks(
+    heights: dict[str, float], x: NDArray[np.float64], fields: Fields, grid: Grid
+) -> list[Landmark]:
+    """Pressure and tension summaries along the grid rows nearest each landmark height."""
+    rows_z = x.reshape(grid.m, grid.n, 3)[..., 2].mean(axis=1)
+    pressure = fields.pressure.reshape(grid.m, grid.n)
+    contact = fields.contact.reshape(grid.m, grid.n).astype(bool)
+    tension = fields.tension_weft.reshape(grid.m, grid.n)
+    out = []
+    for name, height in sorted(heights.items(), key=lambda item: item[1]):
+        half = 0.5 * float(np.max(np.abs(np.diff(rows_z)))) if grid.m > 1 else 0.0
+        if not rows_z.min() - half <= height <= rows_z.max() + half:
+            continue
+        row = int(np.argmin(np.abs(rows_z - height)))
+        values = np.where(contact[row], pressure[row], 0.0)
+        out.append(
+            Landmark(
+                name,
+                float(height),
+                row,
+                float(values.mean()),
+                float(values.max()),
+                float(values.min()),
+                float(np.nanmean(tension[row])),
+            )
+        )
+    return out
+
+
+def aggregate(relaxed_path, base_dir="."):
+    """relaxed.nc -> (result dataset, summary rows): the stage's function.
+
+    Rebuilds the model and body from the state file, evaluates the final positions (forces,
+    contact, normals) and computes every field, landmark and total.
+    """
+    from cloth.bodies import body_from_config
+    from cloth.resultfile import result_dataset, summary_rows
+    from cloth.solvers.problem import Problem
+    from cloth.state import read_state
+
+    state, ds = read_state(relaxed_path, "relaxed")
+    body, ref = body_from_config(state.case["body"], base_dir)
+    ev = Problem(state.grid, body, state.constraint).evaluate(state.x)
+    fields = node_fields(
+        state.grid, state.x, ev.springs, state.fabric.thickness, ev.forces, ev.unbalanced,
+        ev.on_body, ev.normal,
+    )  # fmt: skip
+    heights = dict(ref.get("landmarks", {}))
+    heights.update(state.case.get("landmarks", {}))
+    if not heights:  # a body without landmarks: the middle row
+        z = state.x[:, 2]
+        heights = {"middle": float(0.5 * (z.min() + z.max()))}
+    marks = landmarks(heights, state.x, fields, state.grid)
+    result = result_dataset(state, fields, marks, ds)
+    name = Path(relaxed_path).parent.name
+    return result, summary_rows(result, name)

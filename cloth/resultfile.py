@@ -1,0 +1,200 @@
+"""The result file (``result.nc``) and ``summary.csv``: everything a user needs in one file.
+
+Node fields (dims ``row``, ``col``): positions ``x``, ``y``, ``z`` (m), rest coordinates ``u``,
+``v`` (m), ``stress_weft``, ``stress_warp`` (Pa), ``strain_weft``, ``strain_warp`` (1),
+``tension_weft``, ``tension_warp`` (N m-1), ``pressure`` (Pa), ``pressure_mmHg``,
+``p_laplace`` and ``p_laplace_difference`` (Pa), ``node_area`` (m2), ``contact`` and
+``constraint`` (flags). Spring fields (dim ``spring``): ``spring_stress`` (Pa),
+``spring_strain`` (1), ``spring_family`` (flags), ``spring_node_a``/``_b``. Per iteration: the
+solver history. Per landmark (dim ``landmark``): ``landmark_height`` (m), ``pressure_mean``,
+``pressure_max``, ``pressure_min`` (Pa), ``tension_mean`` (N m-1). Totals: ``total_force`` and
+``total_moment`` (dim ``xyz``; N, N m) of the fabric on the body, ``normal_force`` (N, sum of
+the normal reactions), ``pressure_integral`` (N, sum of pressure x node area). Plus the fabric
+curves, the case, body and provenance attributes. CF-1.11, written atomically.
+"""
+
+from __future__ import annotations
+
+import csv
+import io as _io
+import subprocess
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from cloth.aggregate import MMHG, Fields, Landmark
+from cloth.io import atomic_output, global_attrs, to_attr
+from cloth.materialfile import fabric_variables
+from cloth.state import CONSTRAINT_MEANINGS, CONTACT_MEANINGS, State
+
+KIND = "result"
+
+
+def git_revision() -> str:
+    """The source tree's git revision, or 'unknown'."""
+    try:
+        out = subprocess.run(
+            ["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True, timeout=5,
+            cwd=Path(__file__).resolve().parent,
+        )  # fmt: skip
+        return out.stdout.strip() or "unknown"
+    except (OSError, subprocess.SubprocessError):
+        return "unknown"
+
+
+def _node(values, units, long_name, grid, **attrs) -> xr.Variable:
+    return xr.Variable(
+        ("row", "col"), np.asarray(values).reshape(grid.m, grid.n),
+        {"units": units, "long_name": long_name, **attrs},
+    )  # fmt: skip
+
+
+def result_dataset(
+    state: State, fields: Fields, marks: list[Landmark], relaxed: xr.Dataset
+) -> xr.Dataset:
+    grid = state.grid
+    converged = int(relaxed.attrs.get("solver_converged", 0))
+    note = "" if converged else " (NOT CONVERGED)"
+    variables = {
+        "x": _node(state.x[:, 0], "m", "node x position", grid),
+        "y": _node(state.x[:, 1], "m", "node y position", grid),
+        "z": _node(state.x[:, 2], "m", "node height", grid, positive="up"),
+        "u": _node(grid.rest_uv[:, 0], "m", "rest coordinate along the weft", grid),
+        "v": _node(grid.rest_uv[:, 1], "m", "rest coordinate along the warp", grid),
+        "stress_weft": _node(fields.stress_weft, "Pa", "weft stress" + note, grid),
+        "stress_warp": _node(fields.stress_warp, "Pa", "warp stress" + note, grid),
+        "strain_weft": _node(fields.strain_weft, "1", "weft strain", grid),
+        "strain_warp": _node(fields.strain_warp, "1", "warp strain", grid),
+        "tension_weft": _node(fields.tension_weft, "N m-1", "weft tension", grid),
+        "tension_warp": _node(fields.tension_warp, "N m-1", "warp tension", grid),
+        "pressure": _node(fields.pressure, "Pa", "pressure on the body" + note, grid),
+        "pressure_mmHg": _node(fields.pressure / MMHG, "mmHg", "pressure on the body", grid),
+        "p_laplace": _node(fields.p_laplace, "Pa", "generalised Laplace pressure", grid),
+        "p_laplace_difference": _node(
+            fields.p_laplace - fields.pressure, "Pa", "p_laplace minus pressure", grid
+        ),
+        "node_area": _node(fields.area, "m2", "deformed tributary area of the node", grid),
+        "contact": _node(
+            fields.contact,
+            "1",
+            "node on the body",
+            grid,
+            flag_values=np.array([0, 1], np.int8),
+            flag_meanings=CONTACT_MEANINGS,
+        ),
+        "constraint": _node(
+            state.constraint,
+            "1",
+            "node movement kind",
+            grid,
+            flag_values=np.array([0, 1, 2], np.int8),
+            flag_meanings=CONSTRAINT_MEANINGS,
+        ),
+        "spring_stress": xr.Variable(
+            "spring", fields.spring_stress, {"units": "Pa", "long_name": "spring stress |S|/A"}
+        ),
+        "spring_strain": xr.Variable(
+            "spring", fields.spring_strain, {"units": "1", "long_name": "spring strain"}
+        ),
+        "total_force": xr.Variable(
+            "xyz",
+            fields.total_force,
+            {"units": "N", "long_name": "force of the fabric on the body"},
+        ),
+        "total_moment": xr.Variable(
+            "xyz",
+            fields.total_moment,
+            {"units": "N m", "long_name": "moment of the fabric on the body about the origin"},
+        ),
+        "normal_force": xr.Variable(
+            (), fields.normal_force, {"units": "N", "long_name": "sum of the normal reactions"}
+        ),
+        "pressure_integral": xr.Variable(
+            (),
+            fields.pressure_integral,
+            {"units": "N", "long_name": "pressure integrated over the contact area"},
+        ),
+        "landmark_height": xr.Variable(
+            "landmark", [m.height for m in marks], {"units": "m", "long_name": "landmark height"}
+        ),
+        "pressure_mean": xr.Variable(
+            "landmark",
+            [m.mean for m in marks],
+            {"units": "Pa", "long_name": "mean pressure on the girth line"},
+        ),
+        "pressure_max": xr.Variable(
+            "landmark",
+            [m.max for m in marks],
+            {"units": "Pa", "long_name": "max pressure on the girth line"},
+        ),
+        "pressure_min": xr.Variable(
+            "landmark",
+            [m.min for m in marks],
+            {"units": "Pa", "long_name": "min pressure on the girth line"},
+        ),
+        "tension_mean": xr.Variable(
+            "landmark",
+            [m.tension for m in marks],
+            {"units": "N m-1", "long_name": "mean weft tension on the girth line"},
+        ),
+    }
+    for name in ("spring_family", "spring_node_a", "spring_node_b", "rest_length", "area"):
+        variables[name] = relaxed[name].variable
+    for name in ("residual", "energy", "penetration", "contacts", "step", "iteration_method"):
+        if name in relaxed:
+            variables[name] = relaxed[name].variable
+    variables.update(fabric_variables(state.fabric))
+    coords = {
+        "row": relaxed["row"].variable,
+        "col": relaxed["col"].variable,
+        "landmark": xr.Variable("landmark", [m.name for m in marks], {"long_name": "girth line"}),
+        "xyz": xr.Variable("xyz", ["x", "y", "z"], {"long_name": "component"}),
+    }
+    attrs = global_attrs(f"cloth result: {state.fabric.name}", dict(relaxed.attrs))
+    keep = ("case", "body", "provenance", "fabric_name", "around", "n", "m", "closed")
+    attrs.update({k: relaxed.attrs[k] for k in keep if k in relaxed.attrs})
+    attrs.update({k: v for k, v in relaxed.attrs.items() if k.startswith("solver_")})
+    attrs.update(
+        {
+            "cloth_kind": KIND,
+            "git_revision": git_revision(),
+            "converged": converged,
+            "comment": ""
+            if converged
+            else "the relaxation did NOT converge: results are approximate",
+        }
+    )
+    return xr.Dataset(variables, coords=coords, attrs={k: to_attr(v) for k, v in attrs.items()})
+
+
+def summary_rows(ds: xr.Dataset, case_name: str) -> list[dict[str, object]]:
+    from cloth.aggregate import Landmark
+
+    rows = []
+    for index, name in enumerate(ds["landmark"].values.tolist()):
+        mark = Landmark(
+            str(name), float(ds["landmark_height"][index]), -1,
+            float(ds["pressure_mean"][index]), float(ds["pressure_max"][index]),
+            float(ds["pressure_min"][index]), float(ds["tension_mean"][index]),
+        )  # fmt: skip
+        record = mark.record()
+        record.pop("row")
+        rows.append({"case": case_name, **record, "converged": int(ds.attrs.get("converged", 0))})
+    return rows
+
+
+def write_summary(rows: list[dict[str, object]], path: str | Path) -> Path:
+    buffer = _io.StringIO()
+    if rows:
+        writer = csv.DictWriter(buffer, fieldnames=list(rows[0]))
+        writer.writeheader()
+        for row in rows:
+            writer.writerow(
+                {k: (f"{v:.6g}" if isinstance(v, float) else v) for k, v in row.items()}
+            )
+    else:
+        buffer.write("case,landmark\n")
+    with atomic_output(path) as tmp:
+        tmp.write_text(buffer.getvalue())
+    return Path(path)

@@ -1,0 +1,141 @@
+"""Results: pressure and totals against Laplace, node stresses, CF attributes, figures, export."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from cloth.aggregate import MMHG, aggregate, comfort_group, node_fields, ral_class
+from cloth.cli import main
+from cloth.grid import rectangle
+from cloth.io import write_netcdf
+from cloth.mechanics import spring_state
+from tests.test_relax import THICKNESS, solve, tube
+
+
+def relaxed_file(tmp_path, state, result, settings_tol=1e-10):
+    from cloth.relaxfile import relaxed_dataset
+    from cloth.solvers import Settings
+
+    ds = relaxed_dataset(
+        state, result.final.x, result.final.on_body, result.history,
+        Settings(tolerance=settings_tol), result.converged, result.iterations, "superlu", 0.0,
+    )  # fmt: skip
+    return write_netcdf(ds, tmp_path / "relaxed.nc")
+
+
+@pytest.fixture(scope="module")
+def cylinder(tmp_path_factory):
+    tmp = tmp_path_factory.mktemp("cyl")
+    state = tube({"cylinder": {"radius": 0.1, "bottom": 0.0, "top": 0.5}}, 0.2)
+    path = relaxed_file(tmp, state, solve(state))
+    return state, aggregate(path)[0], tmp
+
+
+def test_cylinder_pressure_and_totals(cylinder):
+    state, ds, _ = cylinder
+    expected = float(state.fabric.weft.stress(1 / 0.8 - 1)) * THICKNESS / 0.1
+    np.testing.assert_allclose(ds["pressure"].values, expected, rtol=5e-3)
+    np.testing.assert_allclose(ds["pressure_mmHg"].values * MMHG, ds["pressure"].values)
+    assert float(ds["pressure_integral"]) == pytest.approx(float(ds["normal_force"]), rel=1e-9)
+    assert np.linalg.norm(ds["total_force"].values) < 1e-6 * float(ds["normal_force"])
+    assert ds.attrs["converged"] == 1
+
+
+def test_result_file_is_cf_and_round_trips(cylinder, tmp_path):
+    _, ds, _ = cylinder
+    path = write_netcdf(ds, tmp_path / "result.nc")
+    with xr.open_dataset(path, engine="netcdf4") as again:
+        again.load()
+    assert again.attrs["Conventions"] == "CF-1.11"
+    for name, var in again.data_vars.items():
+        assert "units" in var.attrs and "long_name" in var.attrs, name
+        if "flag_values" in var.attrs:
+            values = np.asarray(var.attrs["flag_values"])
+            assert len(values) == len(var.attrs["flag_meanings"].split())
+            assert set(np.unique(var.values)) <= set(values.tolist())
+        np.testing.assert_array_equal(var.values, ds[name].values)
+    for name in again.coords:
+        assert (
+            "_FillValue" not in again[name].encoding or again[name].encoding["_FillValue"] is None
+        )
+
+
+def test_elliptic_laplace_diagnostic(tmp_path):
+    state = tube(
+        {"elliptic_cylinder": {"a": 0.15, "b": 0.10, "bottom": 0.0, "top": 0.5}}, 0.2, n=128
+    )
+    ds, rows = aggregate(relaxed_file(tmp_path, state, solve(state)))
+    inner = slice(1, -1)  # away from the edge rows
+    p = ds["pressure"].values[inner]
+    np.testing.assert_allclose(ds["p_laplace"].values[inner], p, rtol=2e-2)
+    assert rows and rows[0]["landmark"] == "middle"
+
+
+def test_flat_patch_node_stress_is_the_lab_curve(fabric):
+    grid = rectangle(7, 5, 0.3, 0.2, fabric)
+    u, v = grid.rest_uv.T
+    x = np.stack([1.35 * u, 1.2 * v, np.zeros_like(u)], axis=1)
+    fields = node_fields(grid, x, spring_state(x, grid), fabric.thickness)
+    np.testing.assert_allclose(fields.stress_weft, float(fabric.weft.stress(0.35)), rtol=1e-12)
+    np.testing.assert_allclose(fields.stress_warp, float(fabric.warp.stress(0.2)), rtol=1e-12)
+    np.testing.assert_allclose(fields.tension_weft, fields.stress_weft * fabric.thickness)
+    assert np.all(fields.pressure == 0)
+
+
+def test_classes():
+    assert ral_class(20.0) == "I" and ral_class(25.0) == "II" and ral_class(10.0) == "-"
+    assert comfort_group(1.5) == "II" and comfort_group(3.5) == "IV"
+
+
+def test_cli_figures_export_and_non_converged(tmp_path, capsys):
+    state = tube({"cylinder": {"radius": 0.1, "bottom": 0.0, "top": 0.5}}, 0.2, n=24, m=4)
+    result = solve(state, tolerance=1e-14, iterations=1)  # stopped early: NOT converged
+    path = relaxed_file(tmp_path, state, result, settings_tol=1e-14)
+    out = tmp_path / "result.nc"
+    assert main(["--log-level", "WARNING", "aggregate", str(path), "-o", str(out),
+                 "--summary", str(tmp_path / "summary.csv")]) == 0  # fmt: skip
+    with xr.open_dataset(out) as ds:
+        ds.load()
+    assert ds.attrs["converged"] == 0 and "NOT" in ds["pressure"].attrs["long_name"]
+    assert "0" == (tmp_path / "summary.csv").read_text().splitlines()[1].split(",")[-1]
+    assert main(["plot", str(out), "-o", str(tmp_path / "fig")]) == 0
+    figures = sorted((tmp_path / "fig").glob("*.png"))
+    assert len(figures) == 7 and all(f.stat().st_size > 15_000 for f in figures)
+    for suffix in (".ply", ".csv"):
+        assert main(["export", str(out), "-o", str(tmp_path / f"garment{suffix}")]) == 0
+    import trimesh
+
+    mesh = trimesh.load(tmp_path / "garment.ply", process=False)
+    np.testing.assert_allclose(mesh.vertices[:, 2], ds["z"].values.ravel(), atol=1e-6)
+    lines = (tmp_path / "garment.csv").read_text().splitlines()
+    assert len(lines) == 1 + 24 * 4 and "pressure_Pa" in lines[0]
+    capsys.readouterr()
+    (tmp_path / "corrupt.nc").write_bytes(b"not netcdf")
+    for bad in (tmp_path / "corrupt.nc", tmp_path / "missing.nc"):
+        target = tmp_path / "r2.nc"
+        assert main(["aggregate", str(bad), "-o", str(target)]) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and str(bad) in err[0] and not target.exists()
+
+
+def test_plotted_arrays_are_the_datasets(cylinder, tmp_path, monkeypatch):
+    _, ds, _ = cylinder
+    import matplotlib.axes
+
+    seen = []
+    original = matplotlib.axes.Axes.pcolormesh
+
+    def spy(self, *args, **kwargs):
+        if len(args) == 3 and np.shape(args[2]) == ds["u"].shape:  # maps, not colour bars
+            seen.append(np.asarray(args[2]))
+        return original(self, *args, **kwargs)
+
+    monkeypatch.setattr(matplotlib.axes.Axes, "pcolormesh", spy)
+    from cloth.plots import plot_result
+
+    plot_result(ds, tmp_path)
+    np.testing.assert_array_equal(seen[0], ds["stress_weft"].values)
+    np.testing.assert_array_equal(seen[1], ds["stress_warp"].values)
+    np.testing.assert_array_equal(seen[2], ds["pressure_mmHg"].values)

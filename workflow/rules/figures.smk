@@ -1,0 +1,32 @@
+# Stage 5: result.nc -> figures (stress maps, garment in 3D, pressure, landmarks, convergence).
+
+FIGURES = [
+    "stress_weft",
+    "stress_warp",
+    "pressure",
+    "garment_stress",
+    "landmarks",
+    "convergence",
+    "material",
+]
+
+
+rule figures:
+    input:
+        "results/cases/{case}/result.nc",
+    output:
+        report(
+            expand("results/cases/{{case}}/figures/{figure}.png", figure=FIGURES),
+            caption="../report/figures.rst",
+            category="Cases",
+            subcategory="{case}",
+        ),
+    log:
+        "logs/figures/{case}.log",
+    conda:
+        "../envs/cloth.yaml"
+    params:
+        folder=lambda wildcards: f"results/cases/{wildcards.case}/figures",
+        cloth_version=CLOTH_VERSION,
+    shell:
+        "cloth plot {input:q} -o {params.folder:q} > {log:q} 2>&1"
