@@ -18,6 +18,7 @@ knitted garments they fall in, and the mean hoop tension.
 
 from __future__ import annotations
 
+import json
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -25,7 +26,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from cloth.grid import WARP, WEFT, Grid
-from cloth.mechanics import SpringState
+from cloth.mechanics import SpringState, spring_state
 from cloth.pressure import contact_reaction, node_area
 
 MMHG = 133.322  # Pa
@@ -227,6 +228,26 @@ def landmarks(
     return out
 
 
+def girth_extrema(state) -> dict[str, float]:
+    """Landmarks of a body without a size chart: the rows where the body's hull girth has an
+    interior minimum or maximum (e.g. a waist, a hip), else the middle row."""
+    raw = state.attrs.get("hull_girth", "[]")
+    girth = np.asarray(json.loads(raw) if isinstance(raw, str) else raw, dtype=float)
+    z = state.x.reshape(state.grid.m, state.grid.n, 3)[..., 2].mean(axis=1)
+    out: dict[str, float] = {}
+    if girth.size == state.grid.m and girth.size >= 3:
+        d = np.diff(girth)
+        scale = max(float(np.ptp(girth)), 1e-12)
+        for j in range(1, girth.size - 1):
+            if abs(d[j - 1]) < 1e-6 * scale and abs(d[j]) < 1e-6 * scale:
+                continue  # flat: a cylinder has no extrema
+            if d[j - 1] < 0 <= d[j]:
+                out[f"girth_min_{len(out) + 1}"] = float(z[j])
+            elif d[j - 1] > 0 >= d[j]:
+                out[f"girth_max_{len(out) + 1}"] = float(z[j])
+    return out or {"middle": float(0.5 * (z.min() + z.max()))}
+
+
 def aggregate(relaxed_path, base_dir="."):
     """relaxed.nc -> (result dataset, summary rows): the stage's function.
 
@@ -247,10 +268,23 @@ def aggregate(relaxed_path, base_dir="."):
     )  # fmt: skip
     heights = dict(ref.get("landmarks", {}))
     heights.update(state.case.get("landmarks", {}))
-    if not heights:  # a body without landmarks: the middle row
-        z = state.x[:, 2]
-        heights = {"middle": float(0.5 * (z.min() + z.max()))}
+    if not heights:
+        heights = girth_extrema(state)
     marks = landmarks(heights, state.x, fields, state.grid)
     result = result_dataset(state, fields, marks, ds)
+    if "x_initial" in ds:
+        start = np.stack([ds[f"{a}_initial"].values.ravel() for a in "xyz"], axis=1)
+        before = node_average(state.grid, np.abs(spring_state(start, state.grid).stress), WEFT)
+        result = result.assign(
+            {
+                f"{a}_initial": ds[f"{a}_initial"].variable for a in "xyz"
+            }
+            | {
+                "stress_weft_initial": (
+                    ("row", "col"), before.reshape(state.grid.m, state.grid.n),
+                    {"units": "Pa", "long_name": "weft stress before relaxation"},
+                )
+            }
+        )  # fmt: skip
     name = Path(relaxed_path).parent.name
     return result, summary_rows(result, name)

@@ -686,6 +686,7 @@ def _cone_remainder(force: NDArray[np.float64], normals: NDArray[np.float64]) ->
         l1 = (b1 * g22 - b2 * g12) / det
         l2 = (b2 * g11 - b1 * g12) / det
     ok &= (l1 >= 0) & (l2 >= 0)
+    l1, l2 = np.where(ok, l1, 0.0), np.where(ok, l2, 0.0)  # parallel normals: no pair solution
     rem = force + l1[:, None] * n1 + l2[:, None] * n2
     norm = np.einsum("ij,ij->i", rem, rem)
     better = ok & (norm < best_norm)

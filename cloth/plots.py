@@ -209,6 +209,17 @@ def plot_result(
             vmax=None if s_hi is None else s_hi / 1e3,
         )
     )
+    if "x_initial" in ds:
+        start = np.stack([ds[f"{c}_initial"].values.ravel() for c in "xyz"], axis=1)
+        paths.append(
+            plot_garment_3d(
+                start, n, m, ds["stress_weft_initial"].values.ravel() / 1e3,
+                "weft stress [kPa]", folder / "garment_stress_initial.png",
+                title="garment on the body before relaxation",
+                vmin=None if s_lo is None else s_lo / 1e3,
+                vmax=None if s_hi is None else s_hi / 1e3,
+            )
+        )  # fmt: skip
     fig, ax = plt.subplots(figsize=(6.4, 4.0), layout="constrained")
     angle = np.linspace(0, 360, n, endpoint=False)
     for index, name in enumerate(ds["landmark"].values.tolist()):

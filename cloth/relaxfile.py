@@ -1,7 +1,8 @@
 """Write a relaxation's outcome: the relaxed state plus history and solver attributes.
 
 ``relaxed.nc`` is a state file (see `cloth.state`) with stage ``relaxed`` and, along the
-``iteration`` dimension (the initial state first): ``residual`` (1), ``energy`` (J),
+``iteration`` dimension (the initial state first), and the positions before relaxation
+``x_initial``, ``y_initial``, ``z_initial`` (m, dims row, col): ``residual`` (1), ``energy`` (J),
 ``penetration`` (m), ``contacts`` (count), ``step`` (m), ``iteration_method`` (0 explicit,
 1 newton). Global attributes: ``solver_method``, ``solver_converged`` (0/1),
 ``solver_iterations``, ``solver_tolerance``, ``solver_residual``, ``solver_linear_solver``,
@@ -71,4 +72,13 @@ def relaxed_dataset(
         },
     )
     ds = state_dataset(relaxed, stage, previous)
-    return ds.assign(history_variables(history))
+    start = state.x.reshape(state.grid.m, state.grid.n, 3)
+    initial = {
+        f"{axis}_initial": xr.Variable(
+            ("row", "col"),
+            start[..., k],
+            {"units": "m", "long_name": f"node {axis} before relaxation"},
+        )
+        for k, axis in enumerate("xyz")
+    }
+    return ds.assign({**history_variables(history), **initial})

@@ -70,7 +70,13 @@ def test_elliptic_laplace_diagnostic(tmp_path):
     inner = slice(1, -1)  # away from the edge rows
     p = ds["pressure"].values[inner]
     np.testing.assert_allclose(ds["p_laplace"].values[inner], p, rtol=2e-2)
-    assert rows and rows[0]["landmark"] == "middle"
+    # pressure = T kappa with the ellipse's exact curvature at the nodes
+    from cloth.bodies import EllipticCylinder
+
+    xy = np.stack([ds["x"].values.ravel(), ds["y"].values.ravel()], axis=1)
+    kappa = EllipticCylinder(0.15, 0.10).curvature(xy).reshape(ds["x"].shape)
+    np.testing.assert_allclose(p, (ds["tension_weft"].values * kappa)[inner], rtol=2e-2)
+    assert rows and rows[0]["landmark"] == "middle"  # no chart, no extrema on a cylinder
 
 
 def test_flat_patch_node_stress_is_the_lab_curve(fabric):
@@ -102,7 +108,7 @@ def test_cli_figures_export_and_non_converged(tmp_path, capsys):
     assert "0" == (tmp_path / "summary.csv").read_text().splitlines()[1].split(",")[-1]
     assert main(["plot", str(out), "-o", str(tmp_path / "fig")]) == 0
     figures = sorted((tmp_path / "fig").glob("*.png"))
-    assert len(figures) == 7 and all(f.stat().st_size > 15_000 for f in figures)
+    assert len(figures) == 8 and all(f.stat().st_size > 15_000 for f in figures)
     for suffix in (".ply", ".csv"):
         assert main(["export", str(out), "-o", str(tmp_path / f"garment{suffix}")]) == 0
     import trimesh
@@ -139,3 +145,26 @@ def test_plotted_arrays_are_the_datasets(cylinder, tmp_path, monkeypatch):
     np.testing.assert_array_equal(seen[0], ds["stress_weft"].values)
     np.testing.assert_array_equal(seen[1], ds["stress_warp"].values)
     np.testing.assert_array_equal(seen[2], ds["pressure_mmHg"].values)
+
+
+def test_landmarks_of_a_scan_come_from_the_girth_profile(tmp_path):
+    from cloth.aggregate import girth_extrema
+    from cloth.predeform import predeform
+    from cloth.torso import chart_size, torso_mesh
+    from tests.conftest import write_obj
+
+    chart = chart_size("M")
+    vertices, faces = torso_mesh(chart, around=64, rings=60)
+    write_obj(tmp_path / "scan.obj", vertices, faces)
+    state = predeform(
+        {
+            "material": "powernet",
+            "body": {"mesh": "scan.obj"},
+            "garment": {"bottom": 0.9, "top": 1.2, "reduction": 0.15, "grid": [24, 31]},
+        },
+        tmp_path,
+    )
+    marks = girth_extrema(state)
+    minima = [z for name, z in marks.items() if name.startswith("girth_min")]
+    assert len(minima) == 1
+    assert minima[0] == pytest.approx(chart.height["waist"], abs=0.011)  # within a row (1 cm)

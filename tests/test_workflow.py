@@ -108,6 +108,6 @@ def test_tiny_pipeline_end_to_end(tmp_path):
         assert 300 < waist < 5000  # a 15 % reduction of power net: shapewear range, Pa
     summary = (where / "results/cases/tiny/summary.csv").read_text().splitlines()
     assert len(summary) == 3 and "pressure_mean_mmHg" in summary[0]
-    assert len(list((where / "results/cases/tiny/figures").glob("*.png"))) == 7
+    assert len(list((where / "results/cases/tiny/figures").glob("*.png"))) == 8
     again = snakemake(where, "--configfile", "config/ci.yaml", "-n")
     assert "Nothing to be done" in again.stdout + again.stderr

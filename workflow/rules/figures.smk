@@ -5,6 +5,7 @@ FIGURES = [
     "stress_warp",
     "pressure",
     "garment_stress",
+    "garment_stress_initial",
     "landmarks",
     "convergence",
     "material",
