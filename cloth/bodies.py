@@ -771,3 +771,44 @@ def mesh_contact_remainder(
         lam, _ = nnls(gens.T, -force[index])
         out[index] = force[index] + gens.T @ lam
     return out
+
+
+def mesh_contact_frames(
+    body: MeshBody, points: NDArray, force: NDArray, horizontal: NDArray
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """The active contact constraints of nodes on a mesh body, for Newton.
+
+    For each point: up to three unit normals ((P, 3, 3), unused rows zero) of the faces whose
+    reaction is active (multiplier > 0 in the normal-cone projection of the force: one on a face,
+    one or two on an edge, up to three on a vertex), and each one's plane offset ((P, 3), m):
+    n_a . x - n_a . q, which a step must cancel to keep the point on that face's plane.
+    """
+    from scipy.optimize import nnls
+
+    from cloth.proximity import EDGE_AB, VERTEX_A
+
+    topo = body._topology()
+    _, face, closest = topo["tree"].squared_distance(body.vertices, body.faces, points)
+    feature = _feature(body.vertices[body.faces[face]], closest)
+    flat = np.asarray(horizontal, bool)
+    f = force.copy()
+    f[flat, 2] = 0.0
+    normals = np.zeros((len(points), 3, 3))
+    for index in range(len(points)):
+        code = feature[index]
+        if code < EDGE_AB:
+            faces = [face[index]]
+        elif code < VERTEX_A:
+            faces = list(topo["edge_faces"][face[index], code - EDGE_AB])
+        else:
+            faces = list(topo["vertex_faces"][body.faces[face[index], code - VERTEX_A]])
+        gens = topo["face_normal"][faces].copy()
+        if flat[index]:
+            gens[:, 2] = 0.0
+            gens /= np.maximum(np.linalg.norm(gens, axis=1, keepdims=True), 1e-300)
+        lam, _ = nnls(gens.T, -f[index])
+        active = np.argsort(-lam)[: min(3, int(np.count_nonzero(lam > 0)))]
+        chosen = topo["face_normal"][np.asarray(faces)[active]]
+        normals[index, : len(chosen)] = chosen
+    offsets = np.einsum("pad,pd->pa", normals, points - closest)
+    return normals, offsets

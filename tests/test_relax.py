@@ -193,3 +193,20 @@ def test_relax_cli_and_bad_input(tmp_path, capsys):
     with pytest.raises(SystemExit) as info:  # argparse: unknown method
         main(["relax", str(initial), "-o", str(tmp_path / "x.nc"), "--method", "verlet"])
     assert info.value.code == 2
+
+
+def test_newton_converges_on_a_faceted_torso():
+    case = {
+        "material": "powernet",
+        "body": {"torso": {"size": "M", "around": 64, "rings": 40}},
+        "garment": {"bottom": 0.9, "top": 1.15, "reduction": 0.15, "grid": [32, 12]},
+    }
+    state = predeform(case)
+    result = solve(state, tolerance=1e-8, iterations=60)
+    assert result.converged and result.history.residual[-1] <= 1e-8
+    assert max(result.history.penetration) <= 1e-6
+    ev = result.final
+    # every node is balanced: what the body does not carry is within the tolerance
+    assert np.max(np.linalg.norm(ev.free, axis=1)) <= 1e-8 * ev.typical
+    held, p = pressure(state, result)
+    assert held.sum() > 0.5 * held.size and np.all(p[held] > 0)

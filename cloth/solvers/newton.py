@@ -14,7 +14,9 @@ Each iteration solves, in the directions every node may move (the projector P of
   and out of the set); a node the springs pull away from the body is released. The reaction is
   lambda_i = -R_i . n_i >= 0 and H_i the Hessian of the body's signed distance (its curvature)
   at the contact point: the term -lambda H makes the step exact for sliding on a curved body, so
-  convergence is quadratic (closed-form bodies; meshes are piecewise flat, H = 0 there);
+  convergence is quadratic (closed-form bodies). On a mesh every active face plane is a
+  constraint (`_mesh_step`: a node on an edge pushed by both faces slides along the edge),
+  linearised exactly, so the iteration is exact once the active set settles;
 * mu = 1e-10 x the largest diagonal entry regularises slack fabric and rigid motions (a tube
   may turn freely around an axisymmetric body), where K is singular;
 * I - P keeps the constrained directions at zero.
@@ -30,11 +32,12 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
+from cloth.bodies import MeshBody, mesh_contact_frames
 from cloth.mechanics import stiffness
 from cloth.solvers.common import constraint_basis
 from cloth.solvers.linear import solve
 from cloth.solvers.problem import Evaluation, Problem
-from cloth.state import SLIDING
+from cloth.state import FIXED, SLIDING
 
 ARMIJO = 1e-4
 MAX_HALVINGS = 30
@@ -77,6 +80,8 @@ def newton_matrix(
 def newton_step(problem: Problem, ev: Evaluation, solver: str) -> tuple[Evaluation, float, bool]:
     """One Newton iteration with line search: (new evaluation, largest move in m, accepted)."""
     held = held_nodes(problem, ev)
+    if isinstance(problem.body, MeshBody) and np.any(held):
+        return _mesh_step(problem, ev, held, solver)
     projector = constraint_basis(problem.constraint, ev.normal, held)
     free = np.einsum("nij,nj->ni", projector, ev.forces)
     rhs = free.ravel()
@@ -96,6 +101,10 @@ def newton_step(problem: Problem, ev: Evaluation, solver: str) -> tuple[Evaluati
     dx[np.flatnonzero(held)[usable]] -= (ev.distance[held][usable] / along[usable])[
         :, None
     ] * normal[usable]
+    return _line_search(problem, ev, dx, slope)
+
+
+def _line_search(problem: Problem, ev: Evaluation, dx: NDArray, slope: float):
     alpha = 1.0
     rounding = 64 * np.finfo(float).eps * max(abs(ev.energy), 1e-300)
     for _ in range(MAX_HALVINGS):
@@ -108,3 +117,39 @@ def newton_step(problem: Problem, ev: Evaluation, solver: str) -> tuple[Evaluati
             return trial, move, True
         alpha *= 0.5
     return ev, 0.0, False
+
+
+def _mesh_step(problem: Problem, ev: Evaluation, held: NDArray[np.bool_], solver: str):
+    """Newton on a polyhedral body: every active face plane is a constraint (a node on an
+    edge with both faces pushing slides along the edge), linearised exactly (planes)."""
+    rows = np.flatnonzero(held)
+    sliding = problem.constraint == SLIDING
+    normals, offsets = mesh_contact_frames(problem.body, ev.x[rows], ev.forces[rows], sliding[rows])
+    count = problem.grid.n_nodes
+    basis = np.zeros((count, 4, 3))  # constraint directions per node (orthonormalised below)
+    target = np.zeros((count, 4))  # required n . dx
+    basis[sliding, 0] = (0.0, 0.0, 1.0)
+    basis[rows, 1:] = normals
+    target[rows, 1:] = -offsets
+    projector = np.broadcast_to(np.eye(3), (count, 3, 3)).copy()
+    correction = np.zeros((count, 3))
+    for node in np.flatnonzero(sliding | held):
+        used = [a for a in range(4) if np.any(basis[node, a])]
+        matrix = basis[node, used]
+        q, r = np.linalg.qr(matrix.T)  # columns of q span the constraint directions
+        rank = int(np.sum(np.abs(np.diag(r)) > 1e-9))
+        q = q[:, :rank]
+        projector[node] -= q @ q.T
+        correction[node] = np.linalg.lstsq(matrix, target[node, used], rcond=None)[0]
+    projector[problem.constraint == FIXED] = 0.0
+    correction[problem.constraint == FIXED] = 0.0
+    free = np.einsum("nij,nj->ni", projector, ev.forces)
+    rhs = free.ravel()
+    dx = solve(newton_matrix(problem, ev, np.zeros(count, bool), projector), rhs, solver)
+    dx = np.einsum("nij,nj->ni", projector, dx.reshape(-1, 3))
+    slope = float(rhs @ dx.ravel())
+    if not np.isfinite(slope) or slope <= 0:
+        diagonal = stiffness(ev.x, problem.grid, project=True, state=ev.springs).diagonal()
+        dx = free / np.maximum(diagonal.reshape(-1, 3), 1e-300)
+        slope = float(rhs @ dx.ravel())
+    return _line_search(problem, ev, dx + correction, slope)
