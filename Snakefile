@@ -17,6 +17,7 @@ include: "workflow/rules/predeform.smk"
 include: "workflow/rules/relax.smk"
 include: "workflow/rules/aggregate.smk"
 include: "workflow/rules/figures.smk"
+include: "workflow/rules/sweep.smk"
 
 
 rule all:

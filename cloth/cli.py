@@ -282,6 +282,58 @@ def _export(args: argparse.Namespace) -> int:
     return 0
 
 
+def _sweep(args: argparse.Namespace) -> int:
+    import json
+
+    from cloth.io import write_netcdf
+    from cloth.sweep import collect, plot_design, sweep_rows, write_rows
+
+    index = json.loads(args.index)
+    targets = json.loads(args.targets)
+    ds = collect(index, args.root)
+    write_netcdf(ds, args.output)
+    rows = sweep_rows(ds)
+    write_rows(rows, args.csv, list(rows[0]) if rows else ["material"])
+    plot_design(ds, targets, args.plot)
+    return 0
+
+
+def _design(args: argparse.Namespace) -> int:
+    import json
+
+    from cloth.io import read_netcdf
+    from cloth.sweep import DESIGN_HEADER, design, write_rows
+
+    rows = design(read_netcdf(args.sweep, "sweep", ("pressure_mean",)), json.loads(args.targets))
+    for row in rows:
+        if row["status"] == "ok":
+            log.info(
+                "%s on %s: %.4g mmHg at the %s needs a reduction of %.4g (to be confirmed)",
+                row["material"], row["body"], row["target_mmHg"], row["landmark"],
+                row["reduction"],
+            )  # fmt: skip
+        else:
+            log.warning("%s on %s: %s", row["material"], row["body"], row["message"])
+    write_rows(rows, args.output, DESIGN_HEADER)
+    return 0
+
+
+def _confirm(args: argparse.Namespace) -> int:
+    from cloth.sweep import confirm, read_design, write_rows
+
+    rows = confirm(read_design(args.design), args.root)
+    header = list(dict.fromkeys(k for row in rows for k in row))
+    write_rows(rows, args.output, header or ["material"])
+    for row in rows:
+        if "confirmed_mmHg" in row:
+            log.info(
+                "%s on %s, %s: reduction %s gives %.4g mmHg (target %s, error %+.2f %%)",
+                row["material"], row["body"], row["landmark"], row["reduction"],
+                row["confirmed_mmHg"], row["target_mmHg"], row["error_percent"],
+            )  # fmt: skip
+    return 0
+
+
 def _positive_int(text: str) -> int:
     value = int(text)
     if value < 2:
@@ -450,6 +502,27 @@ def build_parser() -> argparse.ArgumentParser:
     exp.add_argument("-o", "--output", type=Path, required=True, help="file: .ply, .vtu, .csv")
     exp.add_argument("--field", default="stress_weft", help="field coloured in the PLY")
     exp.set_defaults(handler=_export)
+
+    sw = commands.add_parser("sweep", help="results of a sweep -> sweep.nc, sweep.csv, design plot")
+    sw.add_argument("--index", required=True, help="JSON list of {case, material, body, reduction}")
+    sw.add_argument("--targets", default="[]", help="JSON list of design targets (for the plot)")
+    sw.add_argument("--root", type=Path, default=Path("."), help="folder holding results/")
+    sw.add_argument("-o", "--output", type=Path, required=True, help="sweep.nc to write")
+    sw.add_argument("--csv", type=Path, required=True, help="sweep.csv to write")
+    sw.add_argument("--plot", type=Path, required=True, help="design plot to write")
+    sw.set_defaults(handler=_sweep)
+
+    de = commands.add_parser("design", help="sweep.nc -> design.csv: the reduction per target")
+    de.add_argument("sweep", type=Path, help="sweep.nc from cloth sweep")
+    de.add_argument("--targets", required=True, help="JSON list of {landmark, pressure_mmHg}")
+    de.add_argument("-o", "--output", type=Path, required=True, help="design.csv to write")
+    de.set_defaults(handler=_design)
+
+    co = commands.add_parser("confirm", help="design.csv + confirmation results -> errors")
+    co.add_argument("design", type=Path, help="design.csv from cloth design")
+    co.add_argument("--root", type=Path, default=Path("."), help="folder holding results/")
+    co.add_argument("-o", "--output", type=Path, required=True, help="confirmed CSV to write")
+    co.set_defaults(handler=_confirm)
 
     case = commands.add_parser("case", help="case files: check, write")
     case_commands = case.add_subparsers(dest="case_command", required=True)

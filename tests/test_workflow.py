@@ -109,5 +109,63 @@ def test_tiny_pipeline_end_to_end(tmp_path):
     summary = (where / "results/cases/tiny/summary.csv").read_text().splitlines()
     assert len(summary) == 3 and "pressure_mean_mmHg" in summary[0]
     assert len(list((where / "results/cases/tiny/figures").glob("*.png"))) == 8
+    with xr.open_dataset(where / "results/sweep.nc") as sweep:
+        assert dict(sweep.sizes) == {"material": 1, "body": 1, "reduction": 2, "landmark": 2}
+        waist = sweep["pressure_mean"].sel(landmark="waist").values.ravel()
+        assert waist[1] > waist[0] > 0  # a tighter pattern presses harder
+    confirmed = (where / "results/design_confirmed.csv").read_text().splitlines()
+    header, row = confirmed[0].split(","), confirmed[1].split(",")
+    record = dict(zip(header, row, strict=True))
+    assert record["status"] == "ok" and 0.1 < float(record["reduction"]) < 0.2
+    # two swept reductions, linear interpolation of a convex curve: within 5 % of the target
+    assert abs(float(record["error_percent"])) < 5
     again = snakemake(where, "--configfile", "config/ci.yaml", "-n")
     assert "Nothing to be done" in again.stdout + again.stderr
+
+
+def test_design_interpolates_and_explains_out_of_range():
+    import xarray as xr
+
+    from cloth.aggregate import MMHG
+    from cloth.errors import InputError
+    from cloth.sweep import design
+
+    reductions = np.array([0.1, 0.2, 0.3])
+    pressure = np.array([10.0, 20.0, 40.0]) * MMHG  # mean waist pressure, Pa
+    ds = xr.Dataset(
+        {
+            "pressure_mean": (
+                ("material", "body", "reduction", "landmark"),
+                pressure.reshape(1, 1, 3, 1),
+            )
+        },
+        coords={"material": ["m"], "body": ["b"], "reduction": reductions, "landmark": ["waist"]},
+    )
+    rows = design(
+        ds, [{"landmark": "waist", "pressure_mmHg": 30}, {"landmark": "waist", "pressure_kPa": 9}]
+    )
+    assert rows[0]["status"] == "ok" and rows[0]["reduction"] == pytest.approx(0.25)
+    assert (
+        rows[1]["status"] == "out_of_range"
+        and "no reduction in 0.1-0.3 reaches" in rows[1]["message"]
+    )
+    with pytest.raises(InputError, match="unknown landmark"):
+        design(ds, [{"landmark": "knee", "pressure_mmHg": 20}])
+
+
+@pytest.mark.parametrize(
+    ("mutate", "expected"),
+    [
+        (lambda c: c["sweep"].update(bodies=["giant"]), "sweep.bodies"),
+        (lambda c: c["sweep"].update(reductions=[]), "reductions"),
+        (lambda c: c["targets"].append({"landmark": "waist"}), "targets.1"),
+        (lambda c: c["targets"].append({"landmark": "waist", "pressure_psi": 3}), "pressure_psi"),
+    ],
+)
+def test_bad_sweep_config_stops_before_any_job(tmp_path, mutate, expected):
+    where = workspace(tmp_path)
+    path = bad_config(where, mutate)
+    result = snakemake(where, "--configfile", str(path), "-n")
+    assert result.returncode != 0
+    assert expected in result.stdout + result.stderr
+    assert not (where / "results").exists()

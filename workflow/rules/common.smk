@@ -42,9 +42,10 @@ def ingest_flags(wildcards):
     return " ".join(shlex.quote(flag) for flag in flags)
 
 
-def resolved_case(name):
-    """Case ``name`` of the config with its material as the ingested file, validated."""
-    block = dict(config.get("cases", {})[name])
+def resolved_case(name, block=None):
+    """Case ``name`` (of the config, or the given block) with its material as the ingested
+    file, validated."""
+    block = dict(config.get("cases", {})[name] if block is None else block)
     material = block.get("material")
     if material not in config["materials"]:
         raise InputError(
@@ -57,16 +58,99 @@ def resolved_case(name):
     return validate_case(block, f"config: cases.{name}")
 
 
+def reduction_tag(reduction):
+    return f"r{round(1000 * reduction):03d}"
+
+
+def sweep_cases():
+    """Case blocks of the sweep, by readable name, with what the sweep stage needs to know."""
+    sweep = config.get("sweep")
+    if not sweep:
+        return {}, []
+    bodies = config.get("bodies", {})
+    blocks, index = {}, []
+    for key, names, pool in (
+        ("sweep.materials", sweep["materials"], config["materials"]),
+        ("sweep.bodies", sweep["bodies"], bodies),
+    ):
+        for name in names:
+            if name not in pool:
+                raise InputError(
+                    f"{name!r} is not defined ({', '.join(sorted(pool)) or 'none defined'})",
+                    "config",
+                    key,
+                )
+    for material in sweep["materials"]:
+        for body in sweep["bodies"]:
+            for reduction in sweep["reductions"]:
+                name = f"{material}__{body}__{reduction_tag(reduction)}"
+                blocks[name] = {
+                    "material": material,
+                    "body": bodies[body],
+                    "garment": {**sweep["garment"], "reduction": reduction},
+                    "solver": sweep.get("solver", {}),
+                }
+                index.append(
+                    {
+                        "case": name,
+                        "material": material,
+                        "body": body,
+                        "reduction": reduction,
+                    }
+                )
+    return blocks, index
+
+
+def check_targets():
+    for number, target in enumerate(config.get("targets", [])):
+        if ("pressure_mmHg" in target) == ("pressure_kPa" in target):
+            raise InputError(
+                "give exactly one of pressure_mmHg or pressure_kPa",
+                "config",
+                f"targets.{number}",
+            )
+
+
+SWEEP_BLOCKS, SWEEP_INDEX = sweep_cases()
+check_targets()
+for _name in SWEEP_BLOCKS:
+    if _name in config.get("cases", {}):
+        raise InputError(
+            "a case of this name is also in the sweep", "config", f"cases.{_name}"
+        )
 CASES = {name: resolved_case(name) for name in config.get("cases", {})}
+CASES.update({name: resolved_case(name, block) for name, block in SWEEP_BLOCKS.items()})
+
+
+def case_block(name):
+    """A case by name: a configured or sweep case, or the confirmation case of a design
+    answer (known once the design checkpoint has run)."""
+    if name in CASES:
+        return CASES[name]
+    from cloth.sweep import confirm_name, read_design
+
+    for row in read_design(checkpoints.design.get().output[0]):
+        if row["status"] == "ok" and confirm_name(row) == name:
+            sweep = config["sweep"]
+            block = {
+                "material": row["material"],
+                "body": config["bodies"][row["body"]],
+                "garment": {**sweep["garment"], "reduction": float(row["reduction"])},
+                "solver": sweep.get("solver", {}),
+            }
+            return resolved_case(name, block)
+    raise InputError(
+        "no such case in the config, the sweep or the design", "config", name
+    )
 
 
 def case_json(wildcards):
-    return json.dumps(CASES[wildcards.case], sort_keys=True)
+    return json.dumps(case_block(wildcards.case), sort_keys=True)
 
 
 def body_files(wildcards):
     """Files the body of a case reads (mesh or size chart), so edits rerun the case."""
-    body = CASES[wildcards.case]["body"]
+    body = case_block(wildcards.case)["body"]
     if "mesh" in body:
         return [body["mesh"]]
     if "torso" in body:
@@ -75,22 +159,46 @@ def body_files(wildcards):
 
 
 def case_material(wildcards):
-    return CASES[wildcards.case]["material"]
+    return case_block(wildcards.case)["material"]
+
+
+def sweep_results(wildcards):
+    return [f"results/cases/{entry['case']}/result.nc" for entry in SWEEP_INDEX]
+
+
+def confirmation_results(wildcards):
+    from cloth.sweep import confirm_name, read_design
+
+    rows = read_design(checkpoints.design.get().output[0])
+    return [
+        f"results/cases/{confirm_name(r)}/result.nc"
+        for r in rows
+        if r["status"] == "ok"
+    ]
 
 
 def all_outputs():
     """Every final output of the configured pipeline."""
-    return expand(
-        ["results/materials/{material}.nc", "results/materials/{material}.png"],
-        material=sorted(config["materials"]),
-    ) + expand(
-        [
-            "results/cases/{case}/initial.nc",
-            "results/cases/{case}/initial.png",
-            "results/cases/{case}/relaxed.nc",
-            "results/cases/{case}/result.nc",
-            "results/cases/{case}/summary.csv",
-            "results/cases/{case}/figures/stress_weft.png",
-        ],
-        case=sorted(CASES),
+    sweep = []
+    if SWEEP_INDEX:
+        sweep = ["results/sweep.nc", "results/sweep.csv", "results/design.png"]
+        if config.get("targets"):
+            sweep.append("results/design_confirmed.csv")
+    return (
+        sweep
+        + expand(
+            ["results/materials/{material}.nc", "results/materials/{material}.png"],
+            material=sorted(config["materials"]),
+        )
+        + expand(
+            [
+                "results/cases/{case}/initial.nc",
+                "results/cases/{case}/initial.png",
+                "results/cases/{case}/relaxed.nc",
+                "results/cases/{case}/result.nc",
+                "results/cases/{case}/summary.csv",
+                "results/cases/{case}/figures/stress_weft.png",
+            ],
+            case=sorted(CASES),
+        )
     )

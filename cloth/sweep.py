@@ -1,0 +1,232 @@
+"""Sweeps and the design answer: which pattern reduction gives the target pressure?
+
+`collect` stacks the landmark summaries of a sweep's results into one dataset with dims
+``material`` x ``body`` x ``reduction`` x ``landmark`` (pressure in Pa). `design` answers each
+target (a girth line and a pressure) per material and body by linear interpolation of the mean
+pressure on that line against the reduction; the pipeline then confirms each answer with an
+extra relaxed case at the found reduction (`confirm`), reporting the confirmed pressure and its
+error. A target no reduction in the swept range reaches gets a clear message instead.
+"""
+
+from __future__ import annotations
+
+import csv
+import io as _io
+import json
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from cloth.aggregate import MMHG
+from cloth.errors import InputError
+from cloth.io import atomic_output, global_attrs, read_netcdf
+
+FIELDS = {
+    "pressure_mean": ("Pa", "mean pressure on the girth line"),
+    "pressure_max": ("Pa", "max pressure on the girth line"),
+    "pressure_min": ("Pa", "min pressure on the girth line"),
+    "tension_mean": ("N m-1", "mean weft tension on the girth line"),
+}
+
+
+def collect(index: list[dict], root: str | Path = ".") -> xr.Dataset:
+    """Stack ``results/cases/{case}/result.nc`` of every index entry (case, material, body,
+    reduction) into the sweep dataset."""
+    materials = sorted({e["material"] for e in index})
+    bodies = sorted({e["body"] for e in index})
+    reductions = sorted({float(e["reduction"]) for e in index})
+    results = {}
+    landmarks: list[str] = []
+    for entry in index:
+        path = Path(root) / "results" / "cases" / entry["case"] / "result.nc"
+        ds = read_netcdf(path, "result", ("pressure_mean",))
+        results[entry["case"]] = ds
+        for name in ds["landmark"].values.tolist():
+            if name not in landmarks:
+                landmarks.append(name)
+    shape = (len(materials), len(bodies), len(reductions), len(landmarks))
+    data = {name: np.full(shape, np.nan) for name in FIELDS}
+    converged = np.zeros(shape[:3], dtype=np.int8)
+    for entry in index:
+        ds = results[entry["case"]]
+        i = (
+            materials.index(entry["material"]), bodies.index(entry["body"]),
+            reductions.index(float(entry["reduction"])),
+        )  # fmt: skip
+        converged[i] = int(ds.attrs.get("converged", 0))
+        for k, name in enumerate(ds["landmark"].values.tolist()):
+            for field in FIELDS:
+                data[field][(*i, landmarks.index(name))] = float(ds[field][k])
+    dims = ("material", "body", "reduction", "landmark")
+    variables = {
+        field: xr.Variable(dims, values, {"units": FIELDS[field][0], "long_name": FIELDS[field][1]})
+        for field, values in data.items()
+    }
+    flags = {"flag_values": np.array([0, 1], np.int8), "flag_meanings": "no yes"}
+    variables["converged"] = xr.Variable(
+        dims[:3], converged, {"units": "1", "long_name": "relaxation converged", **flags}
+    )
+    coords = {
+        "material": xr.Variable("material", materials, {"long_name": "fabric"}),
+        "body": xr.Variable("body", bodies, {"long_name": "body"}),
+        "reduction": xr.Variable(
+            "reduction", np.asarray(reductions), {"units": "1", "long_name": "pattern reduction"}
+        ),
+        "landmark": xr.Variable("landmark", landmarks, {"long_name": "girth line"}),
+    }
+    attrs = global_attrs("cloth sweep")
+    attrs.update({"cloth_kind": "sweep", "cases": json.dumps(index, sort_keys=True)})
+    return xr.Dataset(variables, coords=coords, attrs=attrs)
+
+
+def sweep_rows(ds: xr.Dataset) -> list[dict[str, object]]:
+    rows = []
+    for material in ds["material"].values.tolist():
+        for body in ds["body"].values.tolist():
+            for reduction in ds["reduction"].values.tolist():
+                for landmark in ds["landmark"].values.tolist():
+                    at = ds.sel(
+                        material=material, body=body, reduction=reduction, landmark=landmark
+                    )
+                    if not np.isfinite(float(at["pressure_mean"])):
+                        continue
+                    rows.append({
+                        "material": material, "body": body, "reduction": reduction,
+                        "landmark": landmark,
+                        "pressure_mean_Pa": float(at["pressure_mean"]),
+                        "pressure_mean_mmHg": float(at["pressure_mean"]) / MMHG,
+                        "pressure_max_mmHg": float(at["pressure_max"]) / MMHG,
+                        "tension_mean_N_per_m": float(at["tension_mean"]),
+                        "converged": int(at["converged"]),
+                    })  # fmt: skip
+    return rows
+
+
+def write_rows(rows: list[dict[str, object]], path: str | Path, header: list[str]) -> Path:
+    buffer = _io.StringIO()
+    writer = csv.DictWriter(buffer, fieldnames=header)
+    writer.writeheader()
+    for row in rows:
+        writer.writerow({k: (f"{v:.6g}" if isinstance(v, float) else v) for k, v in row.items()})
+    with atomic_output(path) as tmp:
+        tmp.write_text(buffer.getvalue())
+    return Path(path)
+
+
+def target_pa(target: dict) -> float:
+    return (
+        target["pressure_mmHg"] * MMHG
+        if "pressure_mmHg" in target
+        else target["pressure_kPa"] * 1e3
+    )
+
+
+def design(ds: xr.Dataset, targets: list[dict]) -> list[dict[str, object]]:
+    """The reduction reaching each target per material and body (linear interpolation)."""
+    rows = []
+    reductions = ds["reduction"].values
+    for target in targets:
+        landmark = target["landmark"]
+        if landmark not in ds["landmark"].values.tolist():
+            raise InputError(
+                f"unknown landmark {landmark!r}; the sweep has "
+                f"{', '.join(ds['landmark'].values.tolist())}",
+                "config",
+                "targets",
+            )
+        goal = target_pa(target)
+        for material in ds["material"].values.tolist():
+            for body in ds["body"].values.tolist():
+                p = ds["pressure_mean"].sel(material=material, body=body, landmark=landmark).values
+                ok = np.isfinite(p)
+                row = {
+                    "material": material, "body": body, "landmark": landmark,
+                    "target_Pa": goal, "target_mmHg": goal / MMHG,
+                    "reduction": float("nan"), "status": "", "message": "",
+                }  # fmt: skip
+                if np.count_nonzero(ok) < 2:
+                    row.update(status="no_data", message="fewer than two swept reductions")
+                elif not (p[ok].min() <= goal <= p[ok].max()):
+                    row.update(
+                        status="out_of_range",
+                        message=(
+                            f"no reduction in {reductions[ok].min():.3g}-{reductions[ok].max():.3g}"
+                            f" reaches {goal / MMHG:.3g} mmHg at the {landmark}: the sweep gives "
+                            f"{p[ok].min() / MMHG:.3g}-{p[ok].max() / MMHG:.3g} mmHg; widen the "
+                            "reductions or choose another fabric"
+                        ),
+                    )
+                else:
+                    order = np.argsort(p[ok])
+                    reduction = float(np.interp(goal, p[ok][order], reductions[ok][order]))
+                    row.update(reduction=reduction, status="ok")
+                rows.append(row)
+    return rows
+
+
+DESIGN_HEADER = [
+    "material", "body", "landmark", "target_Pa", "target_mmHg", "reduction", "status", "message",
+]  # fmt: skip
+
+
+def read_design(path: str | Path) -> list[dict[str, str]]:
+    with open(path, newline="") as handle:
+        return list(csv.DictReader(handle))
+
+
+def confirm_name(row: dict) -> str:
+    return f"design__{row['material']}__{row['body']}__{row['landmark']}"
+
+
+def confirm(design_rows: list[dict[str, str]], root: str | Path = ".") -> list[dict[str, object]]:
+    """The confirmed pressure of every answered target, and its error against the target."""
+    out = []
+    for row in design_rows:
+        record: dict[str, object] = dict(row)
+        if row["status"] == "ok":
+            path = Path(root) / "results" / "cases" / confirm_name(row) / "result.nc"
+            ds = read_netcdf(path, "result", ("pressure_mean",))
+            confirmed = float(ds["pressure_mean"].sel(landmark=row["landmark"]))
+            goal = float(row["target_Pa"])
+            record.update(
+                confirmed_Pa=confirmed,
+                confirmed_mmHg=confirmed / MMHG,
+                error_percent=100 * (confirmed - goal) / goal,
+                converged=int(ds.attrs.get("converged", 0)),
+            )
+        out.append(record)
+    return out
+
+
+def plot_design(ds: xr.Dataset, targets: list[dict], path: str | Path) -> Path:
+    """Landmark pressure against reduction per fabric and body, with the RAL class bands."""
+    from cloth.aggregate import RAL_CLASSES
+    from cloth.plots import _save, plt
+
+    landmarks = ds["landmark"].values.tolist()
+    fig, axes = plt.subplots(
+        1, len(landmarks), figsize=(3.6 * len(landmarks), 3.8), sharey=True, layout="constrained",
+        squeeze=False,
+    )  # fmt: skip
+    for ax, landmark in zip(axes[0], landmarks, strict=True):
+        for name, lo, hi in RAL_CLASSES[:3]:
+            ax.axhspan(lo, hi, color="tab:red", alpha=0.08)
+            ax.text(
+                ds["reduction"].values.min(), (lo + hi) / 2, f" RAL {name}", fontsize=7, va="center"
+            )
+        for material in ds["material"].values.tolist():
+            for body in ds["body"].values.tolist():
+                p = ds["pressure_mean"].sel(material=material, body=body, landmark=landmark)
+                ax.plot(
+                    100 * ds["reduction"].values, p.values / MMHG, "o-", label=f"{material}, {body}"
+                )
+        for target in targets:
+            if target["landmark"] == landmark:
+                ax.axhline(target_pa(target) / MMHG, color="k", ls="--", lw=0.8, label="target")
+        ax.set_title(landmark)
+        ax.set_xlabel("pattern reduction [%]")
+        ax.grid(alpha=0.3)
+    axes[0][0].set_ylabel("mean pressure on the girth line [mmHg]")
+    axes[0][-1].legend(fontsize=7)
+    return _save(fig, path)

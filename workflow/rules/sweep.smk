@@ -1,0 +1,60 @@
+# Stage 6: the sweep's results -> sweep.nc, sweep.csv and the design plot; the design answer
+# (reduction per target) as a checkpoint, then confirmed by an extra relaxed case each.
+
+
+rule sweep:
+    input:
+        sweep_results,
+    output:
+        nc="results/sweep.nc",
+        csv=report("results/sweep.csv", caption="../report/sweep.rst", category="Sweep"),
+        png=report(
+            "results/design.png", caption="../report/design.rst", category="Sweep"
+        ),
+    log:
+        "logs/sweep.log",
+    conda:
+        "../envs/cloth.yaml"
+    params:
+        index=json.dumps(SWEEP_INDEX),
+        targets=json.dumps(config.get("targets", [])),
+        cloth_version=CLOTH_VERSION,
+    shell:
+        "cloth sweep --index {params.index:q} --targets {params.targets:q} -o {output.nc:q} "
+        "--csv {output.csv:q} --plot {output.png:q} > {log:q} 2>&1"
+
+
+checkpoint design:
+    input:
+        "results/sweep.nc",
+    output:
+        "results/design.csv",
+    log:
+        "logs/design.log",
+    conda:
+        "../envs/cloth.yaml"
+    params:
+        targets=json.dumps(config.get("targets", [])),
+        cloth_version=CLOTH_VERSION,
+    shell:
+        "cloth design {input:q} --targets {params.targets:q} -o {output:q} > {log:q} 2>&1"
+
+
+rule confirm:
+    input:
+        design="results/design.csv",
+        results=confirmation_results,
+    output:
+        report(
+            "results/design_confirmed.csv",
+            caption="../report/design_confirmed.rst",
+            category="Sweep",
+        ),
+    log:
+        "logs/confirm.log",
+    conda:
+        "../envs/cloth.yaml"
+    params:
+        cloth_version=CLOTH_VERSION,
+    shell:
+        "cloth confirm {input.design:q} -o {output:q} > {log:q} 2>&1"
