@@ -11,8 +11,12 @@ configfile: "config/config.yaml"
 validate(config, "workflow/schemas/config.schema.yaml")
 
 
+report: "workflow/report/workflow.rst"
+
+
 include: "workflow/rules/common.smk"
 include: "workflow/rules/materials.smk"
+include: "workflow/rules/bodies.smk"
 include: "workflow/rules/predeform.smk"
 include: "workflow/rules/relax.smk"
 include: "workflow/rules/aggregate.smk"

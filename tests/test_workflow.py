@@ -119,6 +119,11 @@ def test_tiny_pipeline_end_to_end(tmp_path):
     assert record["status"] == "ok" and 0.1 < float(record["reduction"]) < 0.2
     # two swept reductions, linear interpolation of a convex curve: within 5 % of the target
     assert abs(float(record["error_percent"])) < 5
+    # 48 around, 30 rings plus the 4 landmark rings, and the two caps
+    assert "faces: 3264" in (where / "results/bodies/small.txt").read_text()
+    report = snakemake(where, "--configfile", "config/ci.yaml", "--report", "report.html")
+    assert report.returncode == 0, report.stderr[-2000:]
+    assert (where / "report.html").stat().st_size > 100_000
     again = snakemake(where, "--configfile", "config/ci.yaml", "-n")
     assert "Nothing to be done" in again.stdout + again.stderr
 

@@ -162,6 +162,16 @@ def case_material(wildcards):
     return case_block(wildcards.case)["material"]
 
 
+def torso_flags(wildcards):
+    """`cloth body torso` flags of a torso body block."""
+    spec = config["bodies"][wildcards.body]["torso"]
+    flags = ["--size", spec["size"]]
+    for key in ("chart", "around", "rings"):
+        if key in spec:
+            flags += [f"--{key}", str(spec[key])]
+    return " ".join(shlex.quote(flag) for flag in flags)
+
+
 def sweep_results(wildcards):
     return [f"results/cases/{entry['case']}/result.nc" for entry in SWEEP_INDEX]
 
@@ -179,9 +189,10 @@ def confirmation_results(wildcards):
 
 def all_outputs():
     """Every final output of the configured pipeline."""
-    sweep = []
+    torsos = [n for n, b in config.get("bodies", {}).items() if "torso" in b]
+    sweep = expand("results/bodies/{body}.ply", body=torsos)
     if SWEEP_INDEX:
-        sweep = ["results/sweep.nc", "results/sweep.csv", "results/design.png"]
+        sweep += ["results/sweep.nc", "results/sweep.csv", "results/design.png"]
         if config.get("targets"):
             sweep.append("results/design_confirmed.csv")
     return (
