@@ -174,3 +174,31 @@ def test_bad_sweep_config_stops_before_any_job(tmp_path, mutate, expected):
     assert result.returncode != 0
     assert expected in result.stdout + result.stderr
     assert not (where / "results").exists()
+
+
+def test_a_killed_run_leaves_no_corrupt_output_and_resumes(tmp_path):
+    import os
+    import signal
+    import time
+
+    where = workspace(tmp_path)
+    env_path = f"{Path(sys.executable).parent}:{os.environ.get('PATH', '')}"
+    env = {**os.environ, "PATH": env_path, "MPLBACKEND": "Agg"}
+    process = subprocess.Popen(
+        [str(SNAKEMAKE), "--cores", "2", "--configfile", "config/ci.yaml"],
+        cwd=where, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+        start_new_session=True,
+    )  # fmt: skip
+    deadline = time.monotonic() + 300
+    while time.monotonic() < deadline and not list((where / "logs").glob("relax/*.log")):
+        time.sleep(0.05)
+    os.killpg(process.pid, signal.SIGKILL)  # kill -9 the whole run during relax
+    process.wait()
+    for path in (where / "results").rglob("*.nc"):  # whatever exists is complete
+        with xr.open_dataset(path) as ds:
+            ds.load()
+    # Snakemake keeps its lock after a kill -9 and asks for --unlock first (docs/cluster.md)
+    assert snakemake(where, "--configfile", "config/ci.yaml", "--unlock").returncode == 0
+    result = snakemake(where, "--configfile", "config/ci.yaml", "--rerun-incomplete")
+    assert result.returncode == 0, result.stderr[-2000:]
+    assert (where / "results/design_confirmed.csv").exists()
