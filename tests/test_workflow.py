@@ -165,6 +165,10 @@ def test_design_interpolates_and_explains_out_of_range():
         (lambda c: c["sweep"].update(reductions=[]), "reductions"),
         (lambda c: c["targets"].append({"landmark": "waist"}), "targets.1"),
         (lambda c: c["targets"].append({"landmark": "waist", "pressure_psi": 3}), "pressure_psi"),
+        (
+            lambda c: c["targets"].append({"landmark": "knee", "pressure_mmHg": 20}),
+            "targets.1.landmark",
+        ),
     ],
 )
 def test_bad_sweep_config_stops_before_any_job(tmp_path, mutate, expected):

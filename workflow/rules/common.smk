@@ -101,13 +101,39 @@ def sweep_cases():
     return blocks, index
 
 
+TORSO_LANDMARKS = ("hip", "waist", "underbust", "bust")
+
+
 def check_targets():
+    """Targets need one pressure and a girth line the sweep's bodies have (known in advance:
+    the torso's four lines; other bodies get 'middle' or girth_min_N / girth_max_N)."""
+    sweep = config.get("sweep") or {}
+    bodies = [
+        config.get("bodies", {}).get(name, {}) for name in sweep.get("bodies", [])
+    ]
     for number, target in enumerate(config.get("targets", [])):
         if ("pressure_mmHg" in target) == ("pressure_kPa" in target):
             raise InputError(
                 "give exactly one of pressure_mmHg or pressure_kPa",
                 "config",
                 f"targets.{number}",
+            )
+        name = target["landmark"]
+        torso_only = bool(bodies) and all("torso" in body for body in bodies)
+        if torso_only and name not in TORSO_LANDMARKS:
+            raise InputError(
+                f"unknown landmark {name!r}; the torso has {', '.join(TORSO_LANDMARKS)}",
+                "config",
+                f"targets.{number}.landmark",
+            )
+        if not (
+            name in TORSO_LANDMARKS or name == "middle" or name.startswith("girth_")
+        ):
+            raise InputError(
+                f"unknown landmark {name!r}; use hip, waist, underbust, bust (torso), middle, "
+                "or girth_min_N / girth_max_N (other bodies)",
+                "config",
+                f"targets.{number}.landmark",
             )
 
 
