@@ -170,6 +170,15 @@ def node_fields(
     )
 
 
+#: Girth-line summary variables: Landmark attribute, units, long name (result.nc, sweep.nc).
+LANDMARK_FIELDS = {
+    "pressure_mean": ("mean", "Pa", "mean pressure on the girth line"),
+    "pressure_max": ("max", "Pa", "max pressure on the girth line"),
+    "pressure_min": ("min", "Pa", "min pressure on the girth line"),
+    "tension_mean": ("tension", "N m-1", "mean weft tension on the girth line"),
+}
+
+
 @dataclass(frozen=True)
 class Landmark:
     name: str

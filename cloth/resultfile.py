@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from cloth.aggregate import MMHG, Fields, Landmark
+from cloth.aggregate import LANDMARK_FIELDS, MMHG, Fields, Landmark
 from cloth.io import atomic_output, global_attrs, to_attr
 from cloth.materialfile import fabric_variables
 from cloth.state import CONSTRAINT_MEANINGS, CONTACT_MEANINGS, State
@@ -118,27 +118,12 @@ def result_dataset(
         "landmark_height": xr.Variable(
             "landmark", [m.height for m in marks], {"units": "m", "long_name": "landmark height"}
         ),
-        "pressure_mean": xr.Variable(
-            "landmark",
-            [m.mean for m in marks],
-            {"units": "Pa", "long_name": "mean pressure on the girth line"},
-        ),
-        "pressure_max": xr.Variable(
-            "landmark",
-            [m.max for m in marks],
-            {"units": "Pa", "long_name": "max pressure on the girth line"},
-        ),
-        "pressure_min": xr.Variable(
-            "landmark",
-            [m.min for m in marks],
-            {"units": "Pa", "long_name": "min pressure on the girth line"},
-        ),
-        "tension_mean": xr.Variable(
-            "landmark",
-            [m.tension for m in marks],
-            {"units": "N m-1", "long_name": "mean weft tension on the girth line"},
-        ),
     }
+    for name, (attribute, units, long_name) in LANDMARK_FIELDS.items():
+        variables[name] = xr.Variable(
+            "landmark", [getattr(m, attribute) for m in marks],
+            {"units": units, "long_name": long_name},
+        )  # fmt: skip
     for name in ("spring_family", "spring_node_a", "spring_node_b", "rest_length", "area"):
         variables[name] = relaxed[name].variable
     for name in ("residual", "energy", "penetration", "contacts", "step", "iteration_method"):

@@ -18,16 +18,11 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from cloth.aggregate import MMHG
+from cloth.aggregate import LANDMARK_FIELDS, MMHG
 from cloth.errors import InputError
 from cloth.io import atomic_output, global_attrs, read_netcdf
 
-FIELDS = {
-    "pressure_mean": ("Pa", "mean pressure on the girth line"),
-    "pressure_max": ("Pa", "max pressure on the girth line"),
-    "pressure_min": ("Pa", "min pressure on the girth line"),
-    "tension_mean": ("N m-1", "mean weft tension on the girth line"),
-}
+FIELDS = {name: (units, long_name) for name, (_, units, long_name) in LANDMARK_FIELDS.items()}
 
 
 def collect(index: list[dict], root: str | Path = ".") -> xr.Dataset:
