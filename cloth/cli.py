@@ -178,7 +178,14 @@ def _settings(args: argparse.Namespace, case: dict):
     from cloth.solvers import Settings
 
     block = dict(case.get("solver", {}))
-    for key in ("method", "tolerance", "max_iterations", "linear_solver", "log_every"):
+    for key in (
+        "method",
+        "tolerance",
+        "max_iterations",
+        "linear_solver",
+        "log_every",
+        "warm_start",
+    ):
         value = getattr(args, key, None)
         if value is not None:
             block[key] = value
@@ -450,6 +457,9 @@ def build_parser() -> argparse.ArgumentParser:
             help="Newton's sparse solver (default auto)",
         )  # fmt: skip
         command.add_argument("--log-every", type=int, help="log a line every N iterations")
+        command.add_argument(
+            "--warm-start", type=int, help="explicit iterations before Newton (explicit+newton)"
+        )
         command.add_argument(
             "--base-dir", type=Path, help="folder the case's relative paths are relative to"
         )
