@@ -66,6 +66,7 @@ def main() -> None:
             "garment": {"bottom": bottom, "top": top, "reduction": reduction, "grid": [n, m]},
         }  # fmt: skip
         newton = {s: run(case, "newton", s, args.newton_iterations) for s in solvers}
+        # a backend that fell back to superlu for some steps is still reported under its name
         warm = run(case, "explicit+newton", "superlu", args.newton_iterations)
         fastest = min(newton.values(), key=lambda r: r.seconds)
         # the explicit iteration: as many iterations as the budget allows (one step's cost x)

@@ -227,3 +227,22 @@ def test_amg_and_superlu_reach_the_same_equilibrium():
     np.testing.assert_allclose(forces[1], forces[0], rtol=0, atol=1e-7 * np.mean(np.abs(forces[0])))
     # sliding around the ellipse is soft: a 1e-10 residual still leaves ~1e-8 m of freedom
     np.testing.assert_allclose(results[0].final.x, results[1].final.x, atol=1e-6)
+
+
+def test_a_failing_linear_solver_falls_back_to_superlu(monkeypatch, caplog):
+    import scipy.sparse as sp
+
+    from cloth.solvers import linear
+
+    def broken(matrix, rhs, name):
+        if name != "superlu":
+            raise RuntimeError("did not converge")
+        return original(matrix, rhs, name)
+
+    original = linear._solve
+    monkeypatch.setattr(linear, "_solve", broken)
+    matrix = sp.csr_matrix(np.array([[4.0, 1.0], [1.0, 3.0]]))
+    with caplog.at_level("WARNING"):
+        x = linear.solve(matrix, np.array([1.0, 2.0]), "amg")
+    np.testing.assert_allclose(matrix @ x, [1.0, 2.0])
+    assert "falls back" in caplog.text or "uses superlu" in caplog.text

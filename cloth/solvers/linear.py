@@ -14,12 +14,15 @@ tests (their libraries are not installed here); superlu and amg are.
 from __future__ import annotations
 
 import importlib.util
+import logging
 
 import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
 from cloth.errors import InputError
+
+log = logging.getLogger(__name__)
 
 PACKAGES = {"cholmod": "sksparse", "pardiso": "pypardiso", "amg": "pyamg"}
 INSTALL = {"cholmod": "scikit-sparse", "pardiso": "pypardiso", "amg": "pyamg"}
@@ -43,7 +46,22 @@ def choose(name: str) -> str:
 
 
 def solve(matrix: sp.csr_matrix, rhs: NDArray[np.float64], name: str) -> NDArray[np.float64]:
-    """Solve ``matrix @ x = rhs`` (symmetric) with solver ``name`` (already `choose`n)."""
+    """Solve ``matrix @ x = rhs`` (symmetric) with solver ``name`` (already `choose`n).
+
+    An iterative or Cholesky backend can fail where the matrix is not positive definite (the
+    curvature term of contact can make it indefinite far from equilibrium): that step is then
+    solved by SuperLU, with a warning.
+    """
+    if name == "superlu":
+        return _solve(matrix, rhs, name)
+    try:
+        return _solve(matrix, rhs, name)
+    except Exception as exc:  # CG non-convergence, CHOLMOD not-positive-definite, ...
+        log.warning("linear solver %s failed (%s); this step uses superlu", name, exc)
+        return _solve(matrix, rhs, "superlu")
+
+
+def _solve(matrix: sp.csr_matrix, rhs: NDArray[np.float64], name: str) -> NDArray[np.float64]:
     if name == "superlu":
         from scipy.sparse.linalg import splu
 
