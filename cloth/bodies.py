@@ -29,7 +29,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial import ConvexHull
 
-from cloth.errors import InputError
+from cloth.errors import InputError, require_positive
 
 log = logging.getLogger(__name__)
 
@@ -121,10 +121,7 @@ class _Analytic:
 
 
 def _positive(value: float, name: str) -> float:
-    value = float(value)
-    if not np.isfinite(value) or value <= 0:
-        raise InputError(f"{name} must be a positive length in m, got {value}", field=name)
-    return value
+    return require_positive(value, name, "length in m")
 
 
 def _span(bottom: float, top: float) -> tuple[float, float]:

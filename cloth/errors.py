@@ -31,3 +31,12 @@ class InputError(ValueError):
         self.detail = message
         where = ": ".join(part for part in (self.source, field) if part)
         super().__init__(f"{where}: {message}" if where else message)
+
+
+def require_positive(value: float, name: str, quantity: str) -> float:
+    """``value`` as a float if finite and > 0, else an `InputError` naming ``name`` and the
+    expected ``quantity`` (e.g. "length in m")."""
+    value = float(value)
+    if not (value > 0 and value != float("inf")):
+        raise InputError(f"{name} must be a positive {quantity}, got {value}", field=name)
+    return value

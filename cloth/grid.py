@@ -34,7 +34,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from cloth.errors import InputError
+from cloth.errors import InputError, require_positive
 from cloth.materials import Fabric, StressStrainCurve
 
 FAMILIES: tuple[str, ...] = ("weft", "warp", "shear", "bend")
@@ -249,10 +249,7 @@ def build_grid(
 
 
 def _modulus(value: float, name: str) -> float:
-    value = float(value)
-    if not np.isfinite(value) or value <= 0:
-        raise InputError(f"{name} must be a positive stiffness in Pa, got {value}", field=name)
-    return value
+    return require_positive(value, name, "stiffness in Pa")
 
 
 def rectangle(
