@@ -138,9 +138,9 @@ def spring_state(x: ArrayLike, grid: Grid) -> SpringState:
     return SpringState(direction, length, strain, stress, tangent)
 
 
-def energy(x: ArrayLike, grid: Grid) -> float:
-    """Total strain energy sum_k A_k L_k psi(eps_k), J."""
-    strain = _edges(x, grid)[1] / grid.rest_length - 1.0
+def energy(x: ArrayLike, grid: Grid, state: SpringState | None = None) -> float:
+    """Total strain energy sum_k A_k L_k psi(eps_k), J (``state``: precomputed strains)."""
+    strain = _edges(x, grid)[1] / grid.rest_length - 1.0 if state is None else state.strain
     total = 0.0
     volume = grid.area * grid.rest_length
     for sl, curve in grid.segments():

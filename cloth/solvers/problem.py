@@ -70,14 +70,18 @@ class Problem:
             # the exact frictionless residual on a polyhedron: remove the normal cone, then
             # what the edge constraints carry
             held = np.flatnonzero(on_body)
-            remainder = mesh_contact_remainder(
-                self.body, x[held], forces[held], self.constraint[held] == SLIDING
-            )
+            unbalanced[held] = mesh_contact_remainder(self.body, x[held], forces[held])
+            remainder = unbalanced[held].copy()
+            sliding = np.flatnonzero(self.constraint[held] == SLIDING)
+            if sliding.size:  # their vertical reaction comes from the edge support
+                rows = held[sliding]
+                remainder[sliding] = mesh_contact_remainder(
+                    self.body, x[rows], forces[rows], np.ones(sliding.size, bool)
+                )
             edge_only = constraint_basis(
                 self.constraint[held], normal[held], np.zeros(len(held), bool)
             )
             free[held] = np.einsum("nij,nj->ni", edge_only, remainder)
-            unbalanced[held] = mesh_contact_remainder(self.body, x[held], forces[held])
         typical = typical_force(np.linalg.norm(spring_force, axis=1), self.grid.family)
         return Evaluation(
             x=x,
@@ -92,7 +96,7 @@ class Problem:
             unbalanced=unbalanced,
             typical=typical,
             residual=relative_residual(free, typical),
-            energy=energy(x, self.grid),
+            energy=energy(x, self.grid, springs),
             penetration=float(max(0.0, -distance.min())) if len(distance) else 0.0,
         )
 
