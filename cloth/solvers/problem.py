@@ -7,7 +7,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from cloth.bodies import Body, MeshBody, mesh_contact_remainder
+from cloth import contact
+from cloth.bodies import Body, MeshBody
 from cloth.grid import Grid
 from cloth.mechanics import SpringState, energy, spring_forces, spring_state
 from cloth.solvers.common import (
@@ -28,7 +29,8 @@ class Evaluation:
     body query; on_body (N,) bool: nodes held by the body (on or inside it and pushed into it);
     projector (N, 3, 3): allowed directions; free (N, 3) N: P R; unbalanced (N, 3) N: R less
     the body's reaction (no edge constraints); residual (1); energy (J);
-    penetration (m, >= 0); springs: the spring state.
+    penetration (m, >= 0); springs: the spring state; previous (N, 3) m: the positions the
+    solver step that produced x started from (None for a first evaluation).
     """
 
     x: NDArray[np.float64]
@@ -45,6 +47,7 @@ class Evaluation:
     residual: float
     energy: float
     penetration: float
+    previous: NDArray[np.float64] | None = None
 
 
 @dataclass(frozen=True, eq=False)
@@ -70,12 +73,12 @@ class Problem:
             # the exact frictionless residual on a polyhedron: remove the normal cone, then
             # what the edge constraints carry
             held = np.flatnonzero(on_body)
-            unbalanced[held] = mesh_contact_remainder(self.body, x[held], forces[held])
+            unbalanced[held] = contact.remainder(self.body, x[held], forces[held])
             remainder = unbalanced[held].copy()
             sliding = np.flatnonzero(self.constraint[held] == SLIDING)
             if sliding.size:  # their vertical reaction comes from the edge support
                 rows = held[sliding]
-                remainder[sliding] = mesh_contact_remainder(
+                remainder[sliding] = contact.remainder(
                     self.body, x[rows], forces[rows], np.ones(sliding.size, bool)
                 )
             edge_only = constraint_basis(
