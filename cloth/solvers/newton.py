@@ -150,9 +150,14 @@ def _line_search(
         x = problem.project_out(path(alpha), touching)
         trial = replace(problem.evaluate(x), previous=ev.x)
         descent = max(float(np.sum(free * (x - ev.x))), 0.0)
-        if np.isfinite(trial.energy) and (
-            trial.energy <= ev.energy - ARMIJO * descent
-            or (trial.energy <= ev.energy + rounding and trial.residual < ev.residual)
+        # a trial that folds two nodes onto one point has NaN spring directions: refused
+        if (
+            np.isfinite(trial.energy)
+            and np.isfinite(trial.residual)
+            and (
+                trial.energy <= ev.energy - ARMIJO * descent
+                or (trial.energy <= ev.energy + rounding and trial.residual < ev.residual)
+            )
         ):
             move = float(np.max(np.linalg.norm(trial.x - ev.x, axis=1)))
             return trial, move, True
