@@ -7,6 +7,7 @@ the explicit method side by side, the explicit one within a time budget. One run
 long); writes the table into docs/performance.md (section ``relax``). Run:
 
     .venv/bin/python benchmarks/bench_relax.py [--budget 120] [--sizes 50x50 100x100 200x200]
+        [--torso 96x48 384x192] [--newton-iterations 300] [--solvers superlu amg]
 """
 
 from __future__ import annotations
@@ -50,8 +51,10 @@ def main() -> None:
     parser.add_argument("--no-write", action="store_true")
     parser.add_argument("--section", default="relax", help="docs/performance.md section")
     parser.add_argument("--newton-iterations", type=int, default=300)
+    parser.add_argument("--solvers", nargs="*", help="linear solvers (default: all installed)")
     args = parser.parse_args()
-    solvers = [s for s in ("superlu", "cholmod", "pardiso", "amg") if available(s)]
+    names = args.solvers or ("superlu", "cholmod", "pardiso", "amg")
+    solvers = [s for s in names if available(s)]
     rows = []
     cases = [
         (f"ellipse {size}", size, {"elliptic_cylinder": {"a": 0.15, "b": 0.10, "top": 0.5}},
