@@ -5,16 +5,14 @@ there: one face's normal on a face interior, any non-negative combination of the
 normals on an edge, of the incident faces' normals on a vertex. This module gives
 
 * `remainder`: the part of a force the body cannot balance (the residual of the relaxation);
-* `frames`: Newton's active face planes per held node (the faces with a positive multiplier);
-* `clamp`: a move that would cross back over the edge a node crossed in its last move stops on
-  that edge. A node whose equilibrium is on an edge (where a tensioned ring rests on a faceted
-  body) otherwise overshoots along one face's plane into the next face, is sent back along that
-  face's plane, and zigzags across the edge for as long as the iteration runs (measured on the
-  torso at 96 x 48: 100 iterations at a residual of 0.2, each moving one node 0.46 mm across the
-  same edge). Stopped on the edge, the node is classified as on the edge, and the normal cone
-  there decides whether it slides along it (both faces push) or leaves it. Stopping every move
-  at the first edge instead was measured to stall large slides (residual 0.2 after 140
-  iterations at 96 x 48).
+* `frames`: Newton's active face planes per held node (the faces with a positive multiplier).
+
+The edge zigzag. A node whose equilibrium is on an edge, moved along one face's plane,
+overshoots into the next face and is sent back along that plane; on the torso at 96 x 48 Newton
+spent about 100 iterations near a residual of 0.2 that way before the active set settled.
+Stopping a node on the edge it would cross back over cut 96 x 48 to 69 iterations, but stalled
+other cases (48 x 24 at 20 % reduction: residual 1e-3 after 150 iterations, against 23 without),
+so it is not used; see docs/solvers.md.
 
 Points are (P, 3) in m, forces (P, 3) in N, normals unit vectors; faces are row indices into
 ``body.faces``. Feature codes are those of `cloth.proximity` (FACE, EDGE_*, VERTEX_*).
@@ -33,7 +31,7 @@ if TYPE_CHECKING:
     from cloth.bodies import MeshBody
 
 #: A contact point within this fraction (barycentric) of its face's size from an edge (vertex)
-#: is on it; a step does not stop at an edge its node already lies on within this fraction.
+#: is on it.
 FEATURE_TOLERANCE = 1e-4
 #: At most this many face planes are active at one node (three independent planes fix a point).
 MAX_ACTIVE = 3
@@ -74,17 +72,6 @@ def locate(
     face = np.asarray(face, dtype=np.int64).reshape(-1)
     closest = np.asarray(closest, dtype=np.float64).reshape(-1, 3)
     return face, closest, feature(body.vertices[body.faces[face]], closest)
-
-
-def snap_distance(body: MeshBody, faces: NDArray[np.int64]) -> NDArray[np.float64]:
-    """Per face ((P,) indices): the largest height (m) at which a point counted as on one of its
-    edges (within `FEATURE_TOLERANCE` of it) can hover over the neighbouring face,
-    FEATURE_TOLERANCE x the face's longest edge. Held points within it are put on the body."""
-    topo = body._topology()
-    if "longest_edge" not in topo:
-        corners = body.vertices[body.faces]
-        topo["longest_edge"] = np.linalg.norm(corners - np.roll(corners, 1, axis=1), axis=2).max(1)
-    return FEATURE_TOLERANCE * topo["longest_edge"][faces]
 
 
 def cone_pair(force: NDArray[np.float64], normals: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -228,26 +215,3 @@ def frames(
     corner = body.vertices[body.faces[np.maximum(faces, 0), 0]]
     offsets = np.where(used, np.einsum("pad,pad->pa", normals, points[:, None, :] - corner), 0.0)
     return normals, offsets, faces
-
-
-def clamp(
-    body: MeshBody,
-    faces: NDArray[np.int64],
-    start: NDArray[np.float64],
-    end: NDArray[np.float64],
-    previous: NDArray[np.float64],
-) -> NDArray[np.float64]:
-    """Stop each move start -> end ((P, 3), m) on the first edge of an active face ((P, K), -1
-    unused) that it would cross back over: an edge whose far side holds ``previous`` ((P, 3),
-    m; where the node was before its last move). A node thus crosses an edge once and, sent
-    back, rests on it (where the normal cone takes over) instead of zigzagging; long slides
-    across many faces are not slowed. Rows without an active face move freely."""
-    tri = body.vertices[body.faces[np.maximum(faces, 0)]]  # (P, K, 3, 3)
-    before = barycentric(tri, start[:, None, :])  # (P, K, 3): one coordinate per edge
-    after = barycentric(tri, end[:, None, :])
-    came = barycentric(tri, previous[:, None, :])
-    blocking = (faces[..., None] >= 0) & (before > FEATURE_TOLERANCE) & (after < 0.0) & (came < 0.0)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        t = np.where(blocking, before / (before - after), 1.0)
-    t = np.clip(t.reshape(len(start), -1).min(axis=1), 0.0, 1.0)
-    return start + t[:, None] * (end - start)

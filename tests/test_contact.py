@@ -1,4 +1,4 @@
-"""Mesh contact: the normal cone is exact, steps stop on an edge they would cross back over."""
+"""Mesh contact: the normal cone and Newton's plane constraints are exact."""
 
 from __future__ import annotations
 
@@ -46,28 +46,6 @@ def _tetrahedron() -> MeshBody:
     vertices = np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]])
     faces = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
     return MeshBody(vertices, faces)
-
-
-def test_a_move_back_over_the_edge_just_crossed_stops_on_it():
-    body = _tetrahedron()
-    bottom = 0  # faces 0 (z = 0) and 1 (y = 0) share the edge from (0,0,0) to (1,0,0)
-    on_bottom = np.array([[0.5, 0.2, 0.0]])
-    beyond = np.array([[0.5, -0.2, 0.0]])  # on the bottom face's plane, past the edge
-    faces = np.array([[bottom, -1, -1]])
-    # first crossing (the node came from the bottom face's side): not stopped
-    free = contact.clamp(body, faces, on_bottom, beyond, previous=on_bottom)
-    np.testing.assert_allclose(free, beyond)
-    # sent back over the edge it crossed last move: stops exactly on the edge
-    stopped = contact.clamp(body, faces, on_bottom, beyond, previous=beyond)
-    np.testing.assert_allclose(stopped, [[0.5, 0.0, 0.0]], atol=1e-15)
-    _, _, code = contact.locate(body, stopped)
-    assert code[0] != contact.FACE  # now on the edge: the normal cone takes over
-    # a node already on the edge is not held there (the cone has released the other face)
-    again = contact.clamp(body, faces, stopped, beyond, previous=beyond)
-    np.testing.assert_allclose(again, beyond)
-    # no active face: moves freely
-    loose = contact.clamp(body, np.full((1, 3), -1), on_bottom, beyond, previous=beyond)
-    np.testing.assert_allclose(loose, beyond)
 
 
 def test_frames_on_an_edge_pushed_by_both_faces_constrain_both_planes():

@@ -7,9 +7,8 @@ Each iteration solves, in the directions every node may move (the projector P of
 
 * K: the stiffness with each spring's Hessian projected to positive semi-definite
   (compressed springs would make it indefinite);
-* contact: an active set. A node on or inside the body whose spring force pushes into it is
-  held, and so is one within ``GAP`` (1 % of the shortest rest length) pushed hard enough to
-  reach it (`held_nodes`): its normal direction is removed
+* contact: an active set. A node on, inside, or within ``GAP`` (1 % of the shortest rest
+  length) of the body whose spring force pushes into it is held: its normal direction is removed
   from P (the Baraff-Witkin constraint filter I - n n^T) and its step gets the linearised
   constraint correction -d n that puts it on the surface (so nodes do not hover and chatter in
   and out of the set); a node the springs pull away from the body is released. The reaction is
@@ -17,24 +16,17 @@ Each iteration solves, in the directions every node may move (the projector P of
   at the contact point: the term -lambda H makes the step exact for sliding on a curved body, so
   convergence is quadratic (closed-form bodies). On a mesh every active face plane is a
   constraint (`_mesh_step`: a node on an edge pushed by both faces slides along the edge),
-  linearised exactly, so the iteration is exact once the active set settles; a held node's
-  move stops on an edge it crossed in its last move (`cloth.contact.clamp`), where the normal
-  cone decides next iteration whether it slides along the edge or leaves it;
+  linearised exactly, so the iteration is exact once the active set settles;
 * mu = 1e-10 x the largest diagonal entry regularises slack fabric and rigid motions (a tube
   may turn freely around an axisymmetric body), where K is singular;
 * I - P keeps the constrained directions at zero.
 
-The step is followed by a backtracking (Armijo) line search on the energy along the (clamped)
-path x(alpha); trial positions inside the body are projected onto its surface. Sufficient
-decrease is measured against the actual move: E(x(alpha)) <= E(x) - c (P R) . (x(alpha) - x).
-Near convergence, where energy differences drown in rounding, a step is also accepted when it
-lowers the residual.
+The step is followed by a backtracking (Armijo) line search on the energy; trial positions
+inside the body are projected onto its surface. Near convergence, where energy differences
+drown in rounding, a step is also accepted when it lowers the residual.
 """
 
 from __future__ import annotations
-
-from collections.abc import Callable
-from dataclasses import replace
 
 import numpy as np
 import scipy.sparse as sp
@@ -43,7 +35,7 @@ from numpy.typing import NDArray
 from cloth import contact
 from cloth.bodies import MeshBody
 from cloth.mechanics import stiffness
-from cloth.solvers.common import CONTACT_TOLERANCE, constraint_basis
+from cloth.solvers.common import constraint_basis
 from cloth.solvers.linear import solve
 from cloth.solvers.problem import Evaluation, Problem
 from cloth.state import FIXED, SLIDING
@@ -61,31 +53,18 @@ def _block_diagonal(blocks: NDArray[np.float64]) -> sp.csr_matrix:
     return sp.csr_matrix((blocks.ravel(), cols.ravel(), indptr), shape=(3 * count, 3 * count))
 
 
-def held_nodes(problem: Problem, ev: Evaluation, k: sp.csr_matrix) -> NDArray[np.bool_]:
-    """Nodes the body holds this iteration: pushed into it, and on or inside it, or within the
-    gap with a push that would carry them onto it: |F . n| >= k_n d, with k_n the node's own
-    stiffness along the normal (K's diagonal weighted by n^2). The last condition holds a node
-    hovering a hair above the body under a real push (on a mesh: one on a face's plane just
-    past its edge, over the next face), and leaves free a node that bridges a hollow in
-    equilibrium just above the body (F ~ 0), which the contact correction would otherwise pull
-    down and the line search reject, every iteration."""
+def held_nodes(problem: Problem, ev: Evaluation) -> NDArray[np.bool_]:
+    """Nodes the body holds this iteration: within the gap (or inside) and pushed into it."""
     gap = GAP * float(problem.grid.rest_length.min())
-    push = -np.einsum("ij,ij->i", ev.forces, ev.normal)
-    k_n = np.einsum("ij,ij->i", k.diagonal().reshape(-1, 3), ev.normal**2)
-    return (push > 0.0) & (
-        (ev.distance <= CONTACT_TOLERANCE) | ((ev.distance <= gap) & (push >= k_n * ev.distance))
-    )
+    inward = np.einsum("ij,ij->i", ev.forces, ev.normal) < 0.0
+    return (ev.distance <= gap) & inward
 
 
 def newton_matrix(
-    problem: Problem,
-    ev: Evaluation,
-    held: NDArray[np.bool_],
-    projector_blocks: NDArray,
-    k: sp.csr_matrix,
+    problem: Problem, ev: Evaluation, held: NDArray[np.bool_], projector_blocks: NDArray
 ) -> sp.csr_matrix:
-    """The constrained, curvature-corrected, regularised Newton matrix at ``ev`` from the
-    stiffness ``k`` ((3N, 3N), N/m)."""
+    """The constrained, curvature-corrected, regularised Newton matrix at ``ev``."""
+    k = stiffness(ev.x, problem.grid, project=True, state=ev.springs)
     hessian = getattr(problem.body, "hessian", None)
     if hessian is not None and np.any(held):
         held = np.flatnonzero(held)
@@ -101,13 +80,19 @@ def newton_matrix(
 
 def newton_step(problem: Problem, ev: Evaluation, solver: str) -> tuple[Evaluation, float, bool]:
     """One Newton iteration with line search: (new evaluation, largest move in m, accepted)."""
-    k = stiffness(ev.x, problem.grid, project=True, state=ev.springs)
-    held = held_nodes(problem, ev, k)
+    held = held_nodes(problem, ev)
     if isinstance(problem.body, MeshBody) and np.any(held):
-        return _mesh_step(problem, ev, held, k, solver)
+        return _mesh_step(problem, ev, held, solver)
     projector = constraint_basis(problem.constraint, ev.normal, held)
     free = np.einsum("nij,nj->ni", projector, ev.forces)
-    dx = _direction(ev, newton_matrix(problem, ev, held, projector, k), projector, k, solver)
+    rhs = free.ravel()
+    dx = solve(newton_matrix(problem, ev, held, projector), rhs, solver).reshape(-1, 3)
+    dx = np.einsum("nij,nj->ni", projector, dx)
+    slope = float(rhs @ dx.ravel())
+    if not np.isfinite(slope) or slope <= 0:  # not a descent direction: scaled gradient step
+        diagonal = stiffness(ev.x, problem.grid, project=True, state=ev.springs).diagonal()
+        dx = free / np.maximum(diagonal.reshape(-1, 3), 1e-300)
+        slope = float(rhs @ dx.ravel())
     # linearised contact: held nodes step onto the surface (along z-free normal when sliding)
     normal = ev.normal[held].copy()
     sliding = problem.constraint[held] == SLIDING
@@ -117,45 +102,20 @@ def newton_step(problem: Problem, ev: Evaluation, solver: str) -> tuple[Evaluati
     dx[np.flatnonzero(held)[usable]] -= (ev.distance[held][usable] / along[usable])[
         :, None
     ] * normal[usable]
-    return _line_search(problem, ev, free, lambda alpha: ev.x + alpha * dx)
+    return _line_search(problem, ev, dx, slope)
 
 
-def _direction(
-    ev: Evaluation, matrix: sp.csr_matrix, projector: NDArray, k: sp.csr_matrix, solver: str
-) -> NDArray[np.float64]:
-    """The Newton move ((N, 3), m) in the allowed directions; a scaled gradient step where the
-    Newton direction does not descend."""
-    free = np.einsum("nij,nj->ni", projector, ev.forces)
-    dx = solve(matrix, free.ravel(), solver).reshape(-1, 3)
-    dx = np.einsum("nij,nj->ni", projector, dx)
-    slope = float(np.sum(free * dx))
-    if not np.isfinite(slope) or slope <= 0:  # not a descent direction: scaled gradient step
-        dx = free / np.maximum(k.diagonal().reshape(-1, 3), 1e-300)
-    return dx
-
-
-def _line_search(
-    problem: Problem,
-    ev: Evaluation,
-    free: NDArray[np.float64],
-    path: Callable[[float], NDArray[np.float64]],
-    touching: NDArray[np.bool_] | None = None,
-) -> tuple[Evaluation, float, bool]:
-    """Backtracking along ``path(alpha)`` ((N, 3), m); ``free`` ((N, 3), N) is the force in the
-    allowed directions (minus the energy gradient there); ``touching`` nodes are put on the
-    body's surface (closest point) at every trial, others only when they enter it."""
+def _line_search(problem: Problem, ev: Evaluation, dx: NDArray, slope: float):
     alpha = 1.0
     rounding = 64 * np.finfo(float).eps * max(abs(ev.energy), 1e-300)
     for _ in range(MAX_HALVINGS):
-        x = problem.project_out(path(alpha), touching)
-        trial = replace(problem.evaluate(x), previous=ev.x)
-        descent = max(float(np.sum(free * (x - ev.x))), 0.0)
+        trial = problem.evaluate(problem.project_out(ev.x + alpha * dx))
         # a trial that folds two nodes onto one point has NaN spring directions: refused
         if (
             np.isfinite(trial.energy)
             and np.isfinite(trial.residual)
             and (
-                trial.energy <= ev.energy - ARMIJO * descent
+                trial.energy <= ev.energy - ARMIJO * alpha * slope
                 or (trial.energy <= ev.energy + rounding and trial.residual < ev.residual)
             )
         ):
@@ -179,17 +139,12 @@ def _plane_constraints(
     return projector, np.einsum("kr,kri->ki", coefficient, vt)
 
 
-def _mesh_step(
-    problem: Problem, ev: Evaluation, held: NDArray[np.bool_], k: sp.csr_matrix, solver: str
-):
+def _mesh_step(problem: Problem, ev: Evaluation, held: NDArray[np.bool_], solver: str):
     """Newton on a polyhedral body: every active face plane is a constraint (a node on an
-    edge with both faces pushing slides along the edge), linearised exactly (planes); a held
-    node sent back over the edge it just crossed stops on it (`cloth.contact.clamp`)."""
+    edge with both faces pushing slides along the edge), linearised exactly (planes)."""
     rows = np.flatnonzero(held)
     sliding = problem.constraint == SLIDING
-    normals, offsets, faces = contact.frames(
-        problem.body, ev.x[rows], ev.forces[rows], sliding[rows]
-    )
+    normals, offsets, _ = contact.frames(problem.body, ev.x[rows], ev.forces[rows], sliding[rows])
     count = problem.grid.n_nodes
     basis = np.zeros((count, 4, 3))  # constraint directions per node
     target = np.zeros((count, 4))  # required n . dx
@@ -205,23 +160,12 @@ def _mesh_step(
     projector[problem.constraint == FIXED] = 0.0
     correction[problem.constraint == FIXED] = 0.0
     free = np.einsum("nij,nj->ni", projector, ev.forces)
-    matrix = newton_matrix(problem, ev, np.zeros(count, bool), projector, k)
-    step = _direction(ev, matrix, projector, k, solver) + correction
-
-    previous = ev.x[rows] if ev.previous is None else ev.previous[rows]
-
-    # held nodes with an active face that are (nearly) on the body go exactly onto it: a node
-    # on a face's plane just past its edge (still "on the edge" within the feature tolerance)
-    # hovers over the next face, which the plane constraint alone would never close
-    active = faces[:, 0] >= 0
-    touching = np.zeros(count, bool)
-    touching[rows[active]] = ev.distance[rows[active]] <= contact.snap_distance(
-        problem.body, faces[active, 0]
-    )
-
-    def path(alpha: float) -> NDArray[np.float64]:
-        x = ev.x + alpha * step
-        x[rows] = contact.clamp(problem.body, faces, ev.x[rows], x[rows], previous)
-        return x
-
-    return _line_search(problem, ev, free, path, touching)
+    rhs = free.ravel()
+    dx = solve(newton_matrix(problem, ev, np.zeros(count, bool), projector), rhs, solver)
+    dx = np.einsum("nij,nj->ni", projector, dx.reshape(-1, 3))
+    slope = float(rhs @ dx.ravel())
+    if not np.isfinite(slope) or slope <= 0:
+        diagonal = stiffness(ev.x, problem.grid, project=True, state=ev.springs).diagonal()
+        dx = free / np.maximum(diagonal.reshape(-1, 3), 1e-300)
+        slope = float(rhs @ dx.ravel())
+    return _line_search(problem, ev, dx + correction, slope)

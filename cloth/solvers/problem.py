@@ -29,8 +29,7 @@ class Evaluation:
     body query; on_body (N,) bool: nodes held by the body (on or inside it and pushed into it);
     projector (N, 3, 3): allowed directions; free (N, 3) N: P R; unbalanced (N, 3) N: R less
     the body's reaction (no edge constraints); residual (1); energy (J);
-    penetration (m, >= 0); springs: the spring state; previous (N, 3) m: the positions the
-    solver step that produced x started from (None for a first evaluation).
+    penetration (m, >= 0); springs: the spring state.
     """
 
     x: NDArray[np.float64]
@@ -47,7 +46,6 @@ class Evaluation:
     residual: float
     energy: float
     penetration: float
-    previous: NDArray[np.float64] | None = None
 
 
 @dataclass(frozen=True, eq=False)
