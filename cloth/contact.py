@@ -177,18 +177,10 @@ def remainder(
     force = force.copy()
     force[flat, 2] = 0.0
     face, _, code = locate(body, points)
-    out = force.copy()
-    on_face = np.flatnonzero(code == FACE)
+    faces, lams = _active(body, face, code, force, flat)
     normal = body._topology()["face_normal"]
-    n = _level(normal[face[on_face]][:, None, :], flat[on_face])[:, 0]
-    push = np.minimum(np.einsum("ij,ij->i", force[on_face], n), 0.0)
-    out[on_face] = force[on_face] - push[:, None] * n
-    rest = np.flatnonzero(code != FACE)
-    if rest.size:
-        faces, lams = _active(body, face[rest], code[rest], force[rest], flat[rest])
-        gens = _level(np.where(faces[..., None] >= 0, normal[faces], 0.0), flat[rest])
-        out[rest] = force[rest] + np.einsum("pk,pkd->pd", lams, gens)
-    return out
+    gens = _level(np.where(faces[..., None] >= 0, normal[faces], 0.0), flat)
+    return force + np.einsum("pk,pkd->pd", lams, gens)
 
 
 def frames(
