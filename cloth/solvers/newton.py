@@ -7,16 +7,17 @@ Each iteration solves, in the directions every node may move (the projector P of
 
 * K: the stiffness with each spring's Hessian projected to positive semi-definite
   (compressed springs would make it indefinite);
-* contact: an active set. A node on, inside, or within ``GAP`` (1 % of the shortest rest
-  length) of the body whose spring force pushes into it is held: its normal direction is removed
+* contact: an active set. A node on or inside the body whose spring force pushes into it is
+  held, and so is one within ``GAP`` (1 % of the shortest rest length) pushed hard enough to stay
+  pushed once on it (`held_nodes`): its normal direction is removed
   from P (the Baraff-Witkin constraint filter I - n n^T) and its step gets the linearised
   constraint correction -d n that puts it on the surface (so nodes do not hover and chatter in
   and out of the set); a node the springs pull away from the body is released. The reaction is
   lambda_i = -R_i . n_i >= 0 and H_i the Hessian of the body's signed distance (its curvature)
   at the contact point: the term -lambda H makes the step exact for sliding on a curved body, so
-  convergence is quadratic (closed-form bodies). On a mesh every active face plane is a
-  constraint (`_mesh_step`: a node on an edge pushed by both faces slides along the edge),
-  linearised exactly, so the iteration is exact once the active set settles;
+  convergence is quadratic (closed-form bodies, the smooth torso). On a mesh every active face
+  plane is a constraint (`_mesh_step`: a node on an edge pushed by both faces slides along the
+  edge), linearised exactly, so the iteration is exact once the active set settles;
 * mu = 1e-10 x the largest diagonal entry regularises slack fabric and rigid motions (a tube
   may turn freely around an axisymmetric body), where K is singular;
 * I - P keeps the constrained directions at zero.
@@ -35,7 +36,7 @@ from numpy.typing import NDArray
 from cloth import contact
 from cloth.bodies import MeshBody
 from cloth.mechanics import stiffness
-from cloth.solvers.common import constraint_basis
+from cloth.solvers.common import CONTACT_TOLERANCE, constraint_basis
 from cloth.solvers.linear import solve
 from cloth.solvers.problem import Evaluation, Problem
 from cloth.state import FIXED, SLIDING
@@ -54,10 +55,29 @@ def _block_diagonal(blocks: NDArray[np.float64]) -> sp.csr_matrix:
 
 
 def held_nodes(problem: Problem, ev: Evaluation) -> NDArray[np.bool_]:
-    """Nodes the body holds this iteration: within the gap (or inside) and pushed into it."""
+    """Nodes the body holds this iteration: pushed into it and on it (or inside), or within
+    the gap and pushed hard enough to stay pushed once on it.
+
+    A node hovering at distance d above the body with an inward push f = -R . n is held (and
+    put on the surface by the step's correction) only if f >= k_n d, k_n = n^T K_ii n its
+    normal stiffness: otherwise the springs would pull it back off once there. A node where
+    the fabric bridges a hollow (the cleavage) otherwise hovers with a near-zero push, is put
+    down, pulled off, and costs an iteration each time (measured on the smooth torso).
+    """
     gap = GAP * float(problem.grid.rest_length.min())
-    inward = np.einsum("ij,ij->i", ev.forces, ev.normal) < 0.0
-    return (ev.distance <= gap) & inward
+    push = -np.einsum("ij,ij->i", ev.forces, ev.normal)
+    held = (ev.distance <= CONTACT_TOLERANCE) & (push > 0.0)
+    hovering = np.flatnonzero((ev.distance > CONTACT_TOLERANCE) & (ev.distance <= gap) & (push > 0))
+    if hovering.size:
+        k = stiffness(ev.x, problem.grid, project=True, state=ev.springs).tocsr()
+        normal = ev.normal[hovering]
+        k_n = np.zeros(hovering.size)
+        for a in range(3):  # n^T K_ii n from the entries of each node's diagonal block
+            for b in range(3):
+                entry = np.asarray(k[3 * hovering + a, 3 * hovering + b]).ravel()
+                k_n += normal[:, a] * entry * normal[:, b]
+        held[hovering] = push[hovering] >= k_n * ev.distance[hovering]
+    return held
 
 
 def newton_matrix(
