@@ -630,6 +630,7 @@ def body_from_config(block: dict, base_dir: str | Path = ".") -> tuple[Body, dic
     """
     from cloth.config import resolve
     from cloth.labtables import sha256
+    from cloth.smoothtorso import SmoothTorso
     from cloth.torso import DEFAULT_CHART, chart_size, torso_mesh
 
     ref: dict = {"block": block}
@@ -644,8 +645,11 @@ def body_from_config(block: dict, base_dir: str | Path = ".") -> tuple[Body, dic
         spec = block["torso"]
         chart_path = resolve(spec["chart"], base_dir) if "chart" in spec else DEFAULT_CHART
         chart = chart_size(spec["size"], chart_path)
-        vertices, faces = torso_mesh(chart, spec.get("around", 128), spec.get("rings", 120))
-        body = MeshBody(vertices, faces, source=f"torso {spec['size']} ({chart_path})")
+        if spec.get("surface", "smooth") == "smooth":
+            body = SmoothTorso(chart)
+        else:
+            vertices, faces = torso_mesh(chart, spec.get("around", 128), spec.get("rings", 120))
+            body = MeshBody(vertices, faces, source=f"torso {spec['size']} ({chart_path})")
         ref.update(kind="torso", path=str(chart_path), sha256=sha256(chart_path))
         ref["landmarks"] = {k: chart.height[k] for k in ("hip", "waist", "underbust", "bust")}
     elif "cylinder" in block:

@@ -19,6 +19,8 @@ from cloth.materials import DIRECTIONS
 log = logging.getLogger(__name__)
 
 COLOURS = {"weft": "tab:blue", "warp": "tab:orange", "bias": "tab:green"}
+#: Rings of a closed-form body (or the smooth torso) drawn between the garment's edges.
+BODY_RINGS = 24
 
 
 def _save(fig: plt.Figure, path: str | Path) -> Path:
@@ -74,7 +76,7 @@ def _body_triangles(body, z_low: float, z_high: float):
             axis=1,
         )
         return body.vertices, body.faces[keep]
-    heights = np.linspace(z_low, z_high, 12)
+    heights = np.linspace(z_low, z_high, BODY_RINGS)
     rings = []
     for z in heights:
         loop = body.sections(float(z))[0][:, 0][:: max(1, len(body.sections(float(z))[0]) // 64)]
@@ -83,10 +85,11 @@ def _body_triangles(body, z_low: float, z_high: float):
     vertices = np.concatenate(rings)
     i = np.arange(k)
     faces = [
-        np.stack([r * k + i, r * k + (i + 1) % k, (r + 1) * k + i], axis=1) for r in range(11)
+        np.stack([r * k + i, r * k + (i + 1) % k, (r + 1) * k + i], axis=1)
+        for r in range(BODY_RINGS - 1)
     ] + [
         np.stack([r * k + (i + 1) % k, (r + 1) * k + (i + 1) % k, (r + 1) * k + i], axis=1)
-        for r in range(11)
+        for r in range(BODY_RINGS - 1)
     ]
     return vertices, np.concatenate(faces)
 

@@ -198,7 +198,7 @@ def test_relax_cli_and_bad_input(tmp_path, capsys):
 def test_newton_converges_on_a_faceted_torso():
     case = {
         "material": "powernet",
-        "body": {"torso": {"size": "M", "around": 64, "rings": 40}},
+        "body": {"torso": {"size": "M", "surface": "mesh", "around": 64, "rings": 40}},
         "garment": {"bottom": 0.9, "top": 1.15, "reduction": 0.15, "grid": [32, 12]},
     }
     state = predeform(case)
