@@ -7,7 +7,8 @@ the explicit method side by side, the explicit one within a time budget. One run
 long); writes the table into docs/performance.md (section ``relax``). Run:
 
     .venv/bin/python benchmarks/bench_relax.py [--budget 120] [--sizes 50x50 100x100 200x200]
-        [--torso 96x48 384x192] [--newton-iterations 300] [--solvers superlu amg]
+        [--torso 96x48 384x192] [--surfaces smooth mesh] [--newton-iterations 300]
+        [--solvers superlu amg]
 """
 
 from __future__ import annotations
@@ -52,6 +53,10 @@ def main() -> None:
     parser.add_argument("--section", default="relax", help="docs/performance.md section")
     parser.add_argument("--newton-iterations", type=int, default=300)
     parser.add_argument("--solvers", nargs="*", help="linear solvers (default: all installed)")
+    parser.add_argument(
+        "--surfaces", nargs="*", default=["smooth"], choices=["smooth", "mesh"],
+        help="torso contact surfaces (default: smooth; the mesh is slow on fine grids)",
+    )  # fmt: skip
     args = parser.parse_args()
     names = args.solvers or ("superlu", "cholmod", "pardiso", "amg")
     solvers = [s for s in names if available(s)]
@@ -60,8 +65,9 @@ def main() -> None:
         (f"ellipse {size}", size, {"elliptic_cylinder": {"a": 0.15, "b": 0.10, "top": 0.5}},
          (0.1, 0.4, 0.2))
         for size in args.sizes
-    ] + [(f"torso M {size}", size, {"torso": {"size": "M"}}, (0.86, 1.22, 0.15))
-         for size in args.torso]  # fmt: skip
+    ] + [(f"torso M {size} {surface}", size, {"torso": {"size": "M", "surface": surface}},
+          (0.86, 1.22, 0.15))
+         for size in args.torso for surface in args.surfaces]  # fmt: skip
     for label, size, body, (bottom, top, reduction) in cases:
         n, m = (int(v) for v in size.split("x"))
         case = {

@@ -25,6 +25,8 @@ from cloth.errors import InputError
 log = logging.getLogger(__name__)
 
 PACKAGES = {"cholmod": "sksparse", "pardiso": "pypardiso", "amg": "pyamg"}
+#: Backends that solve symmetric indefinite systems (Newton then uses the exact Hessian).
+INDEFINITE = ("superlu", "pardiso")
 INSTALL = {"cholmod": "scikit-sparse", "pardiso": "pypardiso", "amg": "pyamg"}
 
 

@@ -20,6 +20,9 @@ from cloth.solvers.common import (
 )
 from cloth.state import SLIDING
 
+#: Newton corrections along the horizontal normal that put a sliding edge node on the body.
+LEVEL_ITERATIONS = 3
+
 
 @dataclass(frozen=True)
 class Evaluation:
@@ -105,14 +108,31 @@ class Problem:
         self, x: NDArray[np.float64], hold: NDArray[np.bool_] | None = None
     ) -> NDArray[np.float64]:
         """Move nodes inside the body, and the ``hold`` nodes wherever they are, onto its
-        surface (closest point)."""
-        distance, closest, _ = self.body.query(x)
-        inside = distance < 0.0
+        surface: to the closest point, or for a sliding edge node, along its horizontal normal
+        (its height is the edge's: Newton on the distance, ``LEVEL_ITERATIONS`` queries)."""
+        distance, closest, normal = self.body.query(x)
+        move = distance < 0.0
         if hold is not None:
-            inside |= hold
-        if np.any(inside):
-            x = x.copy()
-            x[inside] = closest[inside]
+            move |= hold
+        if not np.any(move):
+            return x
+        x = x.copy()
+        level = move & (self.constraint == SLIDING)
+        x[move & ~level] = closest[move & ~level]
+        rows = np.flatnonzero(level)
+        d, n = distance[rows], normal[rows]
+        for _ in range(LEVEL_ITERATIONS):
+            horizontal = n.copy()
+            horizontal[:, 2] = 0.0
+            along = np.einsum("ij,ij->i", horizontal, n)
+            steep = along > 1e-6  # else (a cap, a ledge): the closest point
+            x[rows[~steep]] = closest[rows[~steep]]
+            rows, d, horizontal, along = rows[steep], d[steep], horizontal[steep], along[steep]
+            x[rows] -= (d / along)[:, None] * horizontal
+            if rows.size == 0:
+                break
+            d, closest_rows, n = self.body.query(x[rows])
+            closest[rows] = closest_rows
         return x
 
     def contacts(self, ev: Evaluation) -> int:
