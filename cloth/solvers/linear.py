@@ -7,8 +7,11 @@
 * ``amg`` (pyamg, optional): conjugate gradients preconditioned by smoothed-aggregation AMG.
 
 ``auto`` prefers pardiso, then cholmod, then superlu (amg only on request: its setup costs
-seconds on small grids). cholmod and pardiso are thin adapters not exercised by this machine's
-tests (their libraries are not installed here); superlu and amg are.
+seconds on small grids). The tests run every installed backend against superlu; superlu and amg
+always (amg is in the test extra), pardiso where the ``pardiso`` extra is installed (checked
+with pypardiso 0.4.7, MKL 2026.2). The cholmod adapter has not run here: scikit-sparse 0.5.0
+does not build against Debian's SuiteSparse 5.12 (its cholmod_common lacks members the wrapper
+uses).
 """
 
 from __future__ import annotations
