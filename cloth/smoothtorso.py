@@ -31,7 +31,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.interpolate import CubicSpline
 
 from cloth.bodies import SECTION_POINTS, _Analytic, _points
-from cloth.torso import EXPONENT, SizeChart, _profiles
+from cloth.torso import EXPONENT, SizeChart, _profiles, superellipse
 
 log = logging.getLogger(__name__)
 
@@ -42,17 +42,23 @@ PROJECTION_ITERATIONS = 25
 PROJECTION_TOLERANCE = 1e-13
 
 
+def _section(angle: NDArray, a: ArrayLike, front: ArrayLike, back: ArrayLike):
+    """Points x, y (m) of sections of half-width ``a``, front depth ``front`` and back depth
+    ``back`` (m; broadcast against ``angle``) at parameter angles (rad)."""
+    x, y = superellipse(angle)
+    return a * x, np.where(y > 0, y * front, y * back)
+
+
 def _unit_perimeter(depth: NDArray, front: NDArray, count: int) -> NDArray:
     """Perimeters ((Z,)) of unit rings (half-width 1) of `cloth.torso._unit_ring` by polygons
     of ``count`` and 2 ``count`` points, Richardson-extrapolated (the error is O(h^2))."""
     values = []
     for k in (count, 2 * count):
         angle = 2 * np.pi * np.arange(k) / k
-        c, s = np.cos(angle), np.sin(angle)
-        x = np.broadcast_to(np.sign(c) * np.abs(c) ** (2 / EXPONENT), (len(depth), k))
-        y = np.sign(s) * np.abs(s) ** (2 / EXPONENT)
-        front_depth, back_depth = 2 * depth * front, 2 * depth * (1 - front)
-        y = np.where(y > 0, y * front_depth[:, None], y * back_depth[:, None])
+        x, y = _section(
+            angle, 1.0, (2 * depth * front)[:, None], (2 * depth * (1 - front))[:, None]
+        )
+        x = np.broadcast_to(x, y.shape)
         values.append(np.hypot(np.roll(x, -1, axis=1) - x, np.roll(y, -1, axis=1) - y).sum(axis=1))
     return (4 * values[1] - values[0]) / 3
 
@@ -116,12 +122,18 @@ class SmoothTorso(_Analytic):
         gradient[:, 2] = -p * (np.abs(x / a) ** p * da / a + np.abs(y / b) ** p * db / b)
         return value, gradient, hessian
 
-    def _radial(self, p: NDArray) -> NDArray:
-        """The surface point on the horizontal ray from the axis through p (a first guess)."""
+    def _level(self, p: NDArray) -> tuple[NDArray, NDArray]:
+        """(|x/a|^p + |y/b|^p)^(1/p) at points p ((P,), < 1 inside, 1 on the surface, the
+        factor by which p lies outside along the horizontal ray from the axis) and a (m)."""
         a, bf, bb = self._profile(p[:, 2], 0)
         x, y = p[:, 0], p[:, 1]
         b = np.where(y >= 0, bf, bb)
-        level = (np.abs(x / a) ** EXPONENT + np.abs(y / b) ** EXPONENT) ** (1 / EXPONENT)
+        return (np.abs(x / a) ** EXPONENT + np.abs(y / b) ** EXPONENT) ** (1 / EXPONENT), a
+
+    def _radial(self, p: NDArray) -> NDArray:
+        """The surface point on the horizontal ray from the axis through p (a first guess)."""
+        level, a = self._level(p)
+        x, y = p[:, 0], p[:, 1]
         on_axis = level < 1e-12
         t = 1.0 / np.where(on_axis, 1.0, level)
         q = np.column_stack([x * t, y * t, p[:, 2]])
@@ -170,11 +182,10 @@ class SmoothTorso(_Analytic):
     def query(self, points: ArrayLike):
         p = _points(points)
         q = self.closest(p)
-        value = self._implicit(p)[0]
         _, g, _ = self._implicit(q)
         normal = g / np.linalg.norm(g, axis=1, keepdims=True)
         distance = np.linalg.norm(p - q, axis=1)
-        return np.where(value < 0, -distance, distance), q, normal
+        return np.where(self._level(p)[0] < 1.0, -distance, distance), q, normal
 
     def hessian(self, surface_points: ArrayLike) -> NDArray[np.float64]:
         """Hessian of the signed distance at surface points ((P, 3, 3), 1/m): P H_G P / |grad G|
@@ -187,11 +198,8 @@ class SmoothTorso(_Analytic):
 
     def _polygon(self, z: float) -> NDArray[np.float64]:
         t = 2 * np.pi * np.arange(SECTION_POINTS) / SECTION_POINTS
-        a, bf, bb = self._profile(np.array([z]), 0)[:, 0]
-        c, s = np.cos(t), np.sin(t)
-        x = a * np.sign(c) * np.abs(c) ** (2 / EXPONENT)
-        y = np.sign(s) * np.abs(s) ** (2 / EXPONENT)
-        return np.column_stack([x, np.where(y > 0, y * bf, y * bb)])
+        a, front, back = self._profile(np.array([z]), 0)[:, 0]
+        return np.column_stack(_section(t, a, front, back))
 
     def _perimeter(self, z: float) -> float:
         return float(self._girth(z))

@@ -102,11 +102,16 @@ def _profiles(chart: SizeChart):
     return tuple(PchipInterpolator(z, values) for values in (girth, depth, front))
 
 
+def superellipse(angle: NDArray) -> tuple[NDArray, NDArray]:
+    """Points x, y (each shaped like ``angle``) of |x|^p + |y|^p = 1 (p = `EXPONENT`) at
+    parameter angles (rad): x = sgn(cos t) |cos t|^(2/p), y likewise with sin t."""
+    c, s = np.cos(angle), np.sin(angle)
+    return np.sign(c) * np.abs(c) ** (2 / EXPONENT), np.sign(s) * np.abs(s) ** (2 / EXPONENT)
+
+
 def _unit_ring(angle: NDArray, depth: float, front: float) -> NDArray:
     """Superellipse ring of half-width 1 (x) and total depth 2*depth split front/back."""
-    c, s = np.cos(angle), np.sin(angle)
-    x = np.sign(c) * np.abs(c) ** (2 / EXPONENT)
-    y = np.sign(s) * np.abs(s) ** (2 / EXPONENT)
+    x, y = superellipse(angle)
     y = np.where(y > 0, y * 2 * depth * front, y * 2 * depth * (1 - front))
     return np.stack([x, y], axis=1)
 

@@ -13,7 +13,7 @@ from cloth.predeform import predeform
 from cloth.smoothtorso import SmoothTorso
 from cloth.solvers import Settings, relax
 from cloth.state import FREE
-from cloth.torso import EXPONENT, LANDMARKS, chart_size, torso_mesh
+from cloth.torso import LANDMARKS, chart_size, superellipse, torso_mesh
 
 RNG = np.random.default_rng(7)
 
@@ -29,10 +29,8 @@ def surface_points(body: SmoothTorso, count: int, low: float, high: float) -> np
     z = RNG.uniform(low, high, count)
     angle = RNG.uniform(0, 2 * np.pi, count)
     a, front, back = body._profile(z, 0)
-    c, s = np.cos(angle), np.sin(angle)
-    x = a * np.sign(c) * np.abs(c) ** (2 / EXPONENT)
-    y = np.sign(s) * np.abs(s) ** (2 / EXPONENT)
-    return np.column_stack([x, np.where(y > 0, y * front, y * back), z])
+    x, y = superellipse(angle)
+    return np.column_stack([a * x, np.where(y > 0, y * front, y * back), z])
 
 
 def test_closest_points_are_exact_feet_of_the_normal(torso):
