@@ -36,6 +36,9 @@ in rounding, a step is also accepted when it lowers the residual.
 
 from __future__ import annotations
 
+import functools
+from collections.abc import Callable
+
 import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
@@ -47,6 +50,9 @@ from cloth.solvers.common import CONTACT_TOLERANCE, constraint_basis
 from cloth.solvers.linear import INDEFINITE, solve
 from cloth.solvers.problem import Evaluation, Problem
 from cloth.state import FIXED, SLIDING
+
+#: ``k(project)``: the stiffness at one state, exact (False) or PSD-projected (True).
+Stiffness = Callable[[bool], sp.csr_matrix]
 
 ARMIJO = 1e-4
 MAX_HALVINGS = 30
@@ -61,7 +67,7 @@ def _block_diagonal(blocks: NDArray[np.float64]) -> sp.csr_matrix:
     return sp.csr_matrix((blocks.ravel(), cols.ravel(), indptr), shape=(3 * count, 3 * count))
 
 
-def held_nodes(problem: Problem, ev: Evaluation) -> NDArray[np.bool_]:
+def held_nodes(problem: Problem, ev: Evaluation, k: Stiffness) -> NDArray[np.bool_]:
     """Nodes the body holds this iteration: pushed into it and on it (or inside), or within
     the gap and pushed hard enough to stay pushed once on it.
 
@@ -70,21 +76,30 @@ def held_nodes(problem: Problem, ev: Evaluation) -> NDArray[np.bool_]:
     normal stiffness: otherwise the springs would pull it back off once there. A node where
     the fabric bridges a hollow (the cleavage) otherwise hovers with a near-zero push, is put
     down, pulled off, and costs an iteration each time (measured on the smooth torso).
+    ``k(True)`` is the projected stiffness, assembled only if some node hovers.
     """
     gap = GAP * float(problem.grid.rest_length.min())
     push = -np.einsum("ij,ij->i", ev.forces, ev.normal)
     held = (ev.distance <= CONTACT_TOLERANCE) & (push > 0.0)
     hovering = np.flatnonzero((ev.distance > CONTACT_TOLERANCE) & (ev.distance <= gap) & (push > 0))
     if hovering.size:
-        k = stiffness(ev.x, problem.grid, project=True, state=ev.springs).tocsr()
+        projected = k(True)
         normal = ev.normal[hovering]
         k_n = np.zeros(hovering.size)
         for a in range(3):  # n^T K_ii n from the entries of each node's diagonal block
             for b in range(3):
-                entry = np.asarray(k[3 * hovering + a, 3 * hovering + b]).ravel()
+                entry = np.asarray(projected[3 * hovering + a, 3 * hovering + b]).ravel()
                 k_n += normal[:, a] * entry * normal[:, b]
         held[hovering] = push[hovering] >= k_n * ev.distance[hovering]
     return held
+
+
+def stiffness_at(problem: Problem, ev: Evaluation) -> Stiffness:
+    """``k(project)``: the stiffness at ``ev`` ((3N, 3N) CSR, N/m), exact or with each spring's
+    Hessian projected to positive semi-definite, each assembled at most once."""
+    return functools.cache(
+        lambda project: stiffness(ev.x, problem.grid, project=project, state=ev.springs).tocsr()
+    )
 
 
 def newton_matrix(
@@ -92,11 +107,10 @@ def newton_matrix(
     ev: Evaluation,
     held: NDArray[np.bool_],
     projector_blocks: NDArray,
-    project: bool = True,
+    k: sp.csr_matrix,
 ) -> sp.csr_matrix:
-    """The constrained, curvature-corrected, regularised Newton matrix at ``ev`` (``project``:
-    each spring's Hessian projected to positive semi-definite)."""
-    k = stiffness(ev.x, problem.grid, project=project, state=ev.springs)
+    """The constrained, curvature-corrected, regularised Newton matrix at ``ev`` from the
+    stiffness ``k`` ((3N, 3N), N/m)."""
     hessian = getattr(problem.body, "hessian", None)
     if hessian is not None and np.any(held):
         held = np.flatnonzero(held)
@@ -112,29 +126,15 @@ def newton_matrix(
 
 def newton_step(problem: Problem, ev: Evaluation, solver: str) -> tuple[Evaluation, float, bool]:
     """One Newton iteration with line search: (new evaluation, largest move in m, accepted)."""
-    held = held_nodes(problem, ev)
+    k = stiffness_at(problem, ev)
+    held = held_nodes(problem, ev, k)
     if isinstance(problem.body, MeshBody) and np.any(held):
-        return _mesh_step(problem, ev, held, solver)
+        return _mesh_step(problem, ev, held, k, solver)
     projector = constraint_basis(problem.constraint, ev.normal, held)
-    free = np.einsum("nij,nj->ni", projector, ev.forces)
-    rhs = free.ravel()
     # the exact Hessian first (compressed springs soften the fabric across them) where the
-    # backend takes indefinite matrices; where that is singular or not a descent direction,
-    # the one with every spring's Hessian projected to positive semi-definite
-    for project in (False, True) if solver in INDEFINITE else (True,):
-        matrix = newton_matrix(problem, ev, held, projector, project=project)
-        try:
-            dx = solve(matrix, rhs, solver).reshape(-1, 3)
-        except RuntimeError:  # SuperLU: "factor is exactly singular"
-            continue
-        dx = np.einsum("nij,nj->ni", projector, dx)
-        slope = float(rhs @ dx.ravel())
-        if np.isfinite(slope) and slope > 0:
-            break
-    else:  # not a descent direction either: scaled gradient step
-        diagonal = stiffness(ev.x, problem.grid, project=True, state=ev.springs).diagonal()
-        dx = free / np.maximum(diagonal.reshape(-1, 3), 1e-300)
-        slope = float(rhs @ dx.ravel())
+    # backend takes indefinite matrices, then the projected one
+    tries = (False, True) if solver in INDEFINITE else (True,)
+    dx, slope = _direction(problem, ev, held, projector, k, solver, tries)
     # linearised contact: held nodes step onto the surface (along z-free normal when sliding)
     normal = ev.normal[held].copy()
     sliding = problem.constraint[held] == SLIDING
@@ -147,6 +147,35 @@ def newton_step(problem: Problem, ev: Evaluation, solver: str) -> tuple[Evaluati
     # held nodes are put on the surface at every trial: the linearised correction is exact only
     # to second order on a curved body, and a shortened step scales it down too
     return _line_search(problem, ev, dx, slope, held)
+
+
+def _direction(
+    problem: Problem,
+    ev: Evaluation,
+    held: NDArray[np.bool_],
+    projector: NDArray[np.float64],
+    k: Stiffness,
+    solver: str,
+    tries: tuple[bool, ...],
+) -> tuple[NDArray[np.float64], float]:
+    """The Newton move ((N, 3), m) in the allowed directions (``projector``, (N, 3, 3)) and its
+    slope (P R) . dx (J): with the stiffness ``k(project)`` for each of ``tries`` in turn until
+    one is a descent direction (a singular matrix is skipped); else a scaled gradient step.
+    ``held`` nodes get the body's curvature term."""
+    free = np.einsum("nij,nj->ni", projector, ev.forces)
+    rhs = free.ravel()
+    for project in tries:
+        matrix = newton_matrix(problem, ev, held, projector, k(project))
+        try:
+            dx = solve(matrix, rhs, solver).reshape(-1, 3)
+        except RuntimeError:  # SuperLU: "factor is exactly singular"
+            continue
+        dx = np.einsum("nij,nj->ni", projector, dx)
+        slope = float(rhs @ dx.ravel())
+        if np.isfinite(slope) and slope > 0:
+            return dx, slope
+    dx = free / np.maximum(k(True).diagonal().reshape(-1, 3), 1e-300)
+    return dx, float(rhs @ dx.ravel())
 
 
 def _line_search(
@@ -185,7 +214,9 @@ def _plane_constraints(
     return projector, np.einsum("kr,kri->ki", coefficient, vt)
 
 
-def _mesh_step(problem: Problem, ev: Evaluation, held: NDArray[np.bool_], solver: str):
+def _mesh_step(
+    problem: Problem, ev: Evaluation, held: NDArray[np.bool_], k: Stiffness, solver: str
+):
     """Newton on a polyhedral body: every active face plane is a constraint (a node on an
     edge with both faces pushing slides along the edge), linearised exactly (planes)."""
     rows = np.flatnonzero(held)
@@ -205,13 +236,5 @@ def _mesh_step(problem: Problem, ev: Evaluation, held: NDArray[np.bool_], solver
     )
     projector[problem.constraint == FIXED] = 0.0
     correction[problem.constraint == FIXED] = 0.0
-    free = np.einsum("nij,nj->ni", projector, ev.forces)
-    rhs = free.ravel()
-    dx = solve(newton_matrix(problem, ev, np.zeros(count, bool), projector), rhs, solver)
-    dx = np.einsum("nij,nj->ni", projector, dx.reshape(-1, 3))
-    slope = float(rhs @ dx.ravel())
-    if not np.isfinite(slope) or slope <= 0:
-        diagonal = stiffness(ev.x, problem.grid, project=True, state=ev.springs).diagonal()
-        dx = free / np.maximum(diagonal.reshape(-1, 3), 1e-300)
-        slope = float(rhs @ dx.ravel())
+    dx, slope = _direction(problem, ev, np.zeros(count, bool), projector, k, solver, (True,))
     return _line_search(problem, ev, dx + correction, slope)
