@@ -19,8 +19,8 @@ import trimesh
 from _table import markdown_table, median_seconds, replace_section
 
 from cloth.bodies import MeshBody
+from cloth.bodies.torso import chart_size, torso_mesh
 from cloth.predeform import predeform
-from cloth.torso import chart_size, torso_mesh
 
 
 def near_surface(body: MeshBody, count: int, rng) -> np.ndarray:

@@ -69,8 +69,8 @@ def _body_torso(args: argparse.Namespace) -> int:
 
     import trimesh
 
+    from cloth.bodies.torso import DEFAULT_CHART, chart_size, torso_mesh
     from cloth.io import atomic_output
-    from cloth.torso import DEFAULT_CHART, chart_size, torso_mesh
 
     chart = chart_size(args.size, args.chart or DEFAULT_CHART)
     overrides = {k: getattr(args, k) / 100 for k in ("bust", "underbust", "waist", "hip")

@@ -7,8 +7,8 @@ import pytest
 import trimesh
 
 from cloth.bodies import Cone, Cylinder, EllipticCylinder, MeshBody, loop_around
+from cloth.bodies.torso import LANDMARKS, chart_size, torso_mesh
 from cloth.errors import InputError
-from cloth.torso import LANDMARKS, chart_size, torso_mesh
 from tests.conftest import write_obj
 
 RNG = np.random.default_rng(7)

@@ -7,8 +7,8 @@ from scipy.optimize import nnls
 
 from cloth import contact
 from cloth.bodies import MeshBody
+from cloth.bodies.torso import chart_size, torso_mesh
 from cloth.solvers.newton import _plane_constraints
-from cloth.torso import chart_size, torso_mesh
 
 
 def test_cone_pair_is_the_nonnegative_least_squares_optimum():

@@ -13,13 +13,13 @@ import yaml
 from scipy.spatial import ConvexHull
 
 from cloth.bodies import EllipticCylinder
+from cloth.bodies.torso import chart_size, torso_mesh
 from cloth.cli import main
 from cloth.grid import WARP, WEFT
 from cloth.io import write_netcdf
 from cloth.mechanics import spring_state
 from cloth.predeform import predeform
 from cloth.state import FIXED, FREE, SLIDING, read_state, state_dataset
-from cloth.torso import chart_size, torso_mesh
 from tests.conftest import write_obj
 
 OFFSET = 1e-4

@@ -149,8 +149,8 @@ def test_plotted_arrays_are_the_datasets(cylinder, tmp_path, monkeypatch):
 
 def test_landmarks_of_a_scan_come_from_the_girth_profile(tmp_path):
     from cloth.aggregate import girth_extrema
+    from cloth.bodies.torso import chart_size, torso_mesh
     from cloth.predeform import predeform
-    from cloth.torso import chart_size, torso_mesh
     from tests.conftest import write_obj
 
     chart = chart_size("M")

@@ -9,11 +9,10 @@ import numpy as np
 import pytest
 
 from cloth.bodies import MeshBody, body_from_config, polygon_perimeter
+from cloth.bodies.torso import LANDMARKS, SmoothTorso, chart_size, superellipse, torso_mesh
 from cloth.predeform import predeform
-from cloth.smoothtorso import SmoothTorso
 from cloth.solvers import Settings, relax
 from cloth.state import FREE
-from cloth.torso import LANDMARKS, chart_size, superellipse, torso_mesh
 
 RNG = np.random.default_rng(7)
 
@@ -43,17 +42,17 @@ def test_closest_points_are_exact_feet_of_the_normal(torso):
     np.testing.assert_allclose(distance, offset, atol=1e-12)
     np.testing.assert_allclose(closest, on, atol=1e-12)
     np.testing.assert_allclose(n, normal, atol=1e-9)
-    assert np.abs(torso._implicit(closest)[0]).max() <= 1e-12
+    assert np.abs(torso.implicit(closest)[0]).max() <= 1e-12
 
 
 def test_implicit_derivatives_match_finite_differences(torso):
     q = surface_points(torso, 200, torso.bottom + 0.01, torso.top - 0.01)
-    _, g, h = torso._implicit(q)
+    _, g, h = torso.implicit(q)
     step = 1e-6
     for axis in range(3):
         dq = np.zeros(3)
         dq[axis] = step
-        plus, minus = torso._implicit(q + dq), torso._implicit(q - dq)
+        plus, minus = torso.implicit(q + dq), torso.implicit(q - dq)
         fd_g = (plus[0] - minus[0]) / (2 * step)
         fd_h = (plus[1] - minus[1]) / (2 * step)
         np.testing.assert_allclose(g[:, axis], fd_g, atol=1e-6 * np.abs(g).max())

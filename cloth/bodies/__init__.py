@@ -1,0 +1,28 @@
+"""Rigid bodies the fabric is worn on (metres, z up), one module a concept:
+
+* `cloth.bodies.base`: the `Body` protocol, cross-section polygons, the analytic base;
+* `cloth.bodies.analytic`: cylinder, elliptic cylinder and cone in closed form (validation);
+* `cloth.bodies.mesh`: triangle meshes (load, units and axes, checks, repair, sections);
+* `cloth.bodies.implicit`: closest points and curvature of a smooth implicit surface;
+* `cloth.bodies.torso`: the parametric torso from a size chart, its mesh and smooth surface;
+* `cloth.bodies.surface`: the smooth surface fitted to any mesh (the default contact surface
+  of a mesh body);
+* `cloth.bodies.factory`: the body of a case's ``body`` block.
+"""
+
+from cloth.bodies.analytic import Cone, Cylinder, EllipticCylinder
+from cloth.bodies.base import Body, hull_polygon, polygon_perimeter
+from cloth.bodies.factory import body_from_config
+from cloth.bodies.mesh import MeshBody, loop_around
+
+__all__ = [
+    "Body",
+    "Cone",
+    "Cylinder",
+    "EllipticCylinder",
+    "MeshBody",
+    "body_from_config",
+    "hull_polygon",
+    "loop_around",
+    "polygon_perimeter",
+]

@@ -1,0 +1,53 @@
+"""The body of a case's ``body`` block (docs/config.md)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from cloth.bodies.analytic import Cone, Cylinder, EllipticCylinder
+from cloth.bodies.base import Body
+from cloth.bodies.mesh import MeshBody
+from cloth.errors import InputError
+
+
+def body_from_config(block: dict, base_dir: str | Path = ".") -> tuple[Body, dict]:
+    """Build the body of a validated case's ``body`` block.
+
+    Returns the body and its reference for state files: the block, plus the resolved path and
+    sha256 of any file it reads.
+    """
+    from cloth.bodies.torso import DEFAULT_CHART, SmoothTorso, chart_size, torso_mesh
+    from cloth.config import resolve
+    from cloth.labtables import sha256
+
+    ref: dict = {"block": block}
+    if "mesh" in block:
+        path = resolve(block["mesh"], base_dir)
+        body: Body = MeshBody.load(
+            path, units=block.get("units", "m"), up=block.get("up", "z"),
+            repair=bool(block.get("repair", False)),
+        )  # fmt: skip
+        ref.update(kind="mesh", path=str(path), sha256=sha256(path))
+    elif "torso" in block:
+        spec = block["torso"]
+        chart_path = resolve(spec["chart"], base_dir) if "chart" in spec else DEFAULT_CHART
+        chart = chart_size(spec["size"], chart_path)
+        if spec.get("surface", "smooth") == "smooth":
+            body = SmoothTorso(chart)
+        else:
+            vertices, faces = torso_mesh(chart, spec.get("around", 128), spec.get("rings", 120))
+            body = MeshBody(vertices, faces, source=f"torso {spec['size']} ({chart_path})")
+        ref.update(kind="torso", path=str(chart_path), sha256=sha256(chart_path))
+        ref["landmarks"] = {k: chart.height[k] for k in ("hip", "waist", "underbust", "bust")}
+    elif "cylinder" in block:
+        body = Cylinder(**block["cylinder"])
+        ref["kind"] = "cylinder"
+    elif "elliptic_cylinder" in block:
+        body = EllipticCylinder(**block["elliptic_cylinder"])
+        ref["kind"] = "elliptic_cylinder"
+    elif "cone" in block:
+        body = Cone(**block["cone"])
+        ref["kind"] = "cone"
+    else:
+        raise InputError("no body given; use one of mesh, torso, cylinder, elliptic_cylinder, cone")
+    return body, ref
