@@ -19,7 +19,7 @@ import yaml
 from cloth.errors import InputError
 
 BODY_KINDS = ("mesh", "torso", "cylinder", "elliptic_cylinder", "cone")
-MESH_ONLY = ("units", "up", "repair")
+MESH_ONLY = ("units", "up", "repair", "surface", "smoothing", "spacing", "surface_file")
 
 
 @cache
@@ -95,7 +95,9 @@ def validate_case(case: dict[str, Any], source: str | Path = "case") -> dict[str
     _fill_defaults(case_schema(), case)
     if kinds[0] == "mesh":
         for key in MESH_ONLY:
-            body.setdefault(key, case_schema()["properties"]["body"]["properties"][key]["default"])
+            spec = case_schema()["properties"]["body"]["properties"][key]
+            if "default" in spec:
+                body.setdefault(key, spec["default"])
     else:
         for key in MESH_ONLY:
             body.pop(key, None)

@@ -93,14 +93,17 @@ def to_attr(value: object) -> str | int | float:
     return json.dumps(value, default=str, sort_keys=True)
 
 
-def write_netcdf(ds: xr.Dataset, path: str | Path) -> Path:
-    """Write ``ds`` atomically with ``engine="netcdf4"``; coordinates get no _FillValue."""
+def write_netcdf(ds: xr.Dataset, path: str | Path, compress: tuple[str, ...] = ()) -> Path:
+    """Write ``ds`` atomically with ``engine="netcdf4"``; coordinates get no _FillValue; the
+    variables named in ``compress`` are zlib-compressed (lossless)."""
     encoding: dict[str, dict[str, object]] = {
         name: {"_FillValue": None} for name in ds.coords if ds[name].dtype.kind == "f"
     }
     for name, var in ds.data_vars.items():
         if var.dtype.kind == "f":
             encoding[str(name)] = {"_FillValue": None}
+    for name in compress:
+        encoding.setdefault(name, {}).update(zlib=True, complevel=4, shuffle=True)
     with atomic_output(path) as tmp:
         ds.to_netcdf(tmp, engine="netcdf4", encoding=encoding)
     return Path(path)

@@ -155,6 +155,9 @@ def predeform(case: dict[str, Any], base_dir: str | Path = ".", source: str = "c
         n, m, heights[0], heights[-1], hull_girth.min(), hull_girth.max(), strain.min(),
         strain.max(), int(contact.sum()), grid.n_nodes,
     )  # fmt: skip
+    record = getattr(body, "record", None)
+    if record is not None:  # a fitted surface: its smoothing and deviation from the mesh
+        body_ref["surface"] = record()
     return State(
         grid=grid,
         x=x,

@@ -28,3 +28,11 @@ def write_obj(path, vertices, faces):
 @pytest.fixture
 def fabric() -> Fabric:
     return make_fabric()
+
+
+@pytest.fixture(autouse=True, scope="session")
+def _surface_cache(tmp_path_factory):
+    """Fitted mesh surfaces go to a folder of the test session, not the user's cache."""
+    import os
+
+    os.environ["CLOTH_CACHE_DIR"] = str(tmp_path_factory.mktemp("cache"))

@@ -7,6 +7,8 @@ from pathlib import Path
 from cloth.bodies.analytic import Cone, Cylinder, EllipticCylinder
 from cloth.bodies.base import Body
 from cloth.bodies.mesh import MeshBody
+from cloth.bodies.surface import FitOptions
+from cloth.bodies.surfacefile import smooth_body
 from cloth.errors import InputError
 
 
@@ -23,11 +25,21 @@ def body_from_config(block: dict, base_dir: str | Path = ".") -> tuple[Body, dic
     ref: dict = {"block": block}
     if "mesh" in block:
         path = resolve(block["mesh"], base_dir)
-        body: Body = MeshBody.load(
+        smooth = block.get("surface", "smooth") == "smooth"
+        mesh = MeshBody.load(
             path, units=block.get("units", "m"), up=block.get("up", "z"),
-            repair=bool(block.get("repair", False)),
+            repair=bool(block.get("repair", False)), allow_holes=smooth,
         )  # fmt: skip
         ref.update(kind="mesh", path=str(path), sha256=sha256(path))
+        body: Body = mesh
+        if smooth:
+            options = FitOptions(block.get("smoothing"), block.get("spacing"))
+            surface_file = block.get("surface_file")
+            if surface_file is not None:
+                surface_file = resolve(surface_file, base_dir)
+            body = smooth_body(mesh, options, surface_file)  # predeform records the fit
+        else:
+            ref["surface"] = {"kind": "mesh"}
     elif "torso" in block:
         spec = block["torso"]
         chart_path = resolve(spec["chart"], base_dir) if "chart" in spec else DEFAULT_CHART

@@ -30,6 +30,20 @@ PROJECTION_ITERATIONS = 25
 PROJECTION_TOLERANCE = 1e-13
 
 
+def _solve(lhs: NDArray, rhs: NDArray) -> NDArray:
+    """Batched 4 x 4 solves; a singular system (a point where grad G vanishes) gets NaN."""
+    try:
+        return np.linalg.solve(lhs, rhs[..., None])[..., 0]
+    except np.linalg.LinAlgError:
+        out = np.full(rhs.shape, np.nan)
+        for i in range(len(lhs)):
+            try:
+                out[i] = np.linalg.solve(lhs[i], rhs[i])
+            except np.linalg.LinAlgError:
+                pass
+        return out
+
+
 class ImplicitBody:
     """Closest points, normals and curvature of the surface G = 0 (G < 0 inside)."""
 
@@ -64,6 +78,7 @@ class ImplicitBody:
         _, g, _ = self.implicit(q)
         mu = -np.einsum("ij,ij->i", q - p, g) / np.einsum("ij,ij->i", g, g)
         active = np.arange(len(p))
+        failed = []  # singular systems (grad G = 0): to the fallback
         for _ in range(PROJECTION_ITERATIONS):
             value, g, h = self.implicit(q[active])
             lhs = np.zeros((len(active), 4, 4))
@@ -72,16 +87,22 @@ class ImplicitBody:
             rhs = -np.concatenate(
                 [q[active] - p[active] + mu[active, None] * g, value[:, None]], axis=1
             )
-            step = np.linalg.solve(lhs, rhs[..., None])[..., 0]
+            step = _solve(lhs, rhs)
+            ok = np.all(np.isfinite(step), axis=1)
+            failed.append(active[~ok])
+            step[~ok] = 0.0
             q[active] += step[:, :3]
             mu[active] += step[:, 3]
             moved = np.linalg.norm(step[:, :3], axis=1)
-            active = active[moved > PROJECTION_TOLERANCE]
+            active = active[ok & (moved > PROJECTION_TOLERANCE)]
             if active.size == 0:
                 break
-        else:
-            q[active] = self.fallback(p[active], q[active])
-            log.debug("closest point: %d far points by the fallback", active.size)
+        rest = np.concatenate([*failed, active])
+        if rest.size:
+            # far from the body (a line-search trial cm away, or deep inside) the stationary
+            # point need not be unique, or the iteration met a point with no gradient
+            q[rest] = self.fallback(p[rest], q[rest])
+            log.debug("closest point: %d far points by the fallback", rest.size)
         return q
 
     def query(self, points: ArrayLike):

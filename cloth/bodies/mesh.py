@@ -33,6 +33,9 @@ log = logging.getLogger(__name__)
 
 UNITS = {"m": 1.0, "cm": 0.01, "mm": 0.001}
 UP_AXES = ("x", "y", "z")
+#: The smooth surface closes holes whose perimeter is at most this share of the mesh's size
+#: (its bounding-box diagonal) by the winding number; a larger one is refused.
+HOLE_LIMIT = 0.25
 
 
 def to_z_up(vertices: NDArray[np.float64], units: str, up: str) -> NDArray[np.float64]:
@@ -118,12 +121,16 @@ class MeshBody:
         up: str = "z",
         repair: bool = False,
         backend: str = "auto",
+        allow_holes: bool = False,
     ) -> MeshBody:
         """Read and check a mesh file; convert it to metres, z up.
 
-        A mesh that is not watertight, not consistently wound, inverted or has degenerate faces
-        is refused with the defect and its count, unless ``repair`` is true: then trimesh's
-        repairs are applied, logged and listed in `MeshBody.report`, and the checks rerun.
+        A mesh with vertices that are not finite numbers or with non-manifold edges (shared by
+        more than two faces) is refused. One that is not watertight, not consistently wound,
+        inverted or has degenerate faces is refused with the defect and its count, unless
+        ``repair`` is true: then trimesh's repairs are applied, logged and listed in
+        `MeshBody.report`, and the checks rerun. With ``allow_holes`` (the smooth surface, whose
+        inside comes from the winding number) open edges and degenerate faces are only logged.
         """
         import trimesh
 
@@ -135,7 +142,7 @@ class MeshBody:
         if not path.is_file():
             raise InputError("mesh file not found; check the path", path, "mesh")
         try:
-            mesh = trimesh.load(path, force="mesh", process=True)
+            mesh = trimesh.load(path, force="mesh", process=False)
         except Exception as exc:  # trimesh raises many types for unreadable files
             raise InputError(
                 f"not a mesh trimesh can read ({type(exc).__name__}: {exc}); export OBJ, STL, "
@@ -145,15 +152,44 @@ class MeshBody:
             ) from None
         if not isinstance(mesh, trimesh.Trimesh) or len(mesh.faces) == 0:
             raise InputError("the file holds no triangles; export a surface mesh", path, "mesh")
+        finite = np.isfinite(np.asarray(mesh.vertices)).all(axis=1)
+        if not np.all(finite):
+            raise InputError(
+                f"{np.count_nonzero(~finite)} vertices are not finite numbers (NaN or inf); fix "
+                "the export",
+                path,
+                "mesh",
+            )
+        mesh.process()  # merge duplicate vertices (as trimesh.load(process=True) does)
+        _, counts = np.unique(mesh.edges_sorted, axis=0, return_counts=True)
+        if np.any(counts > 2):
+            raise InputError(
+                f"{np.count_nonzero(counts > 2)} non-manifold edges (shared by more than two "
+                "faces); the body must be one closed surface, fix the mesh",
+                path,
+                "mesh",
+            )
         repairs: list[str] = []
         if repair:
             repairs = _repair(mesh)
         report = _inspect(mesh, repairs)
-        problems = []
+        problems, tolerated = [], []
         if report.degenerate_faces:
-            problems.append(f"{report.degenerate_faces} degenerate faces")
+            (tolerated if allow_holes else problems).append(
+                f"{report.degenerate_faces} degenerate faces"
+            )
         if not report.watertight:
-            problems.append(f"not watertight ({_open_edges(mesh)} open edges)")
+            holes = f"not watertight ({_open_edges(mesh)} open edges)"
+            largest = _largest_hole(mesh)
+            if allow_holes and largest <= HOLE_LIMIT * float(mesh.scale):
+                tolerated.append(holes)
+            else:
+                if allow_holes:
+                    holes += (
+                        f", a hole {largest:.3g} units around, more than {HOLE_LIMIT:.0%} of the "
+                        "mesh's size: too large for the winding number to close"
+                    )
+                problems.append(holes)
         if not report.winding_consistent:
             problems.append("inconsistently wound faces")
         if report.watertight and report.volume <= 0:
@@ -161,6 +197,9 @@ class MeshBody:
         if problems:
             hint = "fix the mesh" if repair else "fix the mesh or set repair: true"
             raise InputError(f"{'; '.join(problems)}; {hint}", path, "mesh")
+        for line in tolerated:
+            log.warning("%s: %s; the smooth surface takes its inside from the winding number",
+                        path, line)  # fmt: skip
         vertices = to_z_up(np.asarray(mesh.vertices), units, up)
         body = cls(vertices, np.asarray(mesh.faces), str(path), backend, report)
         log.info(
@@ -300,6 +339,12 @@ def _inspect(mesh, repairs: list[str]) -> MeshReport:
         volume=float(mesh.volume) if watertight else float("nan"),
         repairs=tuple(repairs),
     )
+
+
+def _largest_hole(mesh) -> float:
+    """Perimeter of the largest hole (loop of open edges), in the mesh's units."""
+    outline = mesh.outline()
+    return max((entity.length(outline.vertices) for entity in outline.entities), default=0.0)
 
 
 def _open_edges(mesh) -> int:

@@ -145,9 +145,32 @@ def constraint_basis(
     return projector
 
 
-def pushing(forces: NDArray[np.float64], normal: NDArray[np.float64], distance: NDArray) -> NDArray:
-    """Nodes on or inside the body whose spring force pushes them into it."""
-    return (distance <= CONTACT_TOLERANCE) & (np.einsum("ij,ij->i", forces, normal) < 0.0)
+def body_push(
+    forces: NDArray[np.float64], normal: NDArray[np.float64], constraint: NDArray[np.int8]
+) -> NDArray[np.float64]:
+    """(N,) N: lambda, the body's normal reaction lambda n that would balance each node.
+
+    A node balanced by the body alone: R + lambda n = 0 along n, lambda = -R . n. A sliding
+    edge node is balanced by the body and by its edge's support, which carries any vertical
+    force: R + lambda n + mu e_z = 0, so lambda comes from the horizontal balance alone,
+    lambda = -R_h . n_h / |n_h|^2 (the full -R . n differs by mu n_z: under an overhang, n_z < 0,
+    a node pushed sideways into the body would look pulled off). Where n_h vanishes (a ledge)
+    the support and the body push along one line: -R . n.
+    """
+    push = -np.einsum("ij,ij->i", forces, normal)
+    sliding = np.flatnonzero(constraint == SLIDING)
+    if sliding.size:
+        horizontal = normal[sliding, :2]
+        squared = np.einsum("ij,ij->i", horizontal, horizontal)
+        steep = squared > 1e-12
+        rows = sliding[steep]
+        push[rows] = -np.einsum("ij,ij->i", forces[rows, :2], horizontal[steep]) / squared[steep]
+    return push
+
+
+def pushing(push: NDArray[np.float64], distance: NDArray[np.float64]) -> NDArray[np.bool_]:
+    """Nodes on or inside the body that it must push back (``push``: `body_push`, N)."""
+    return (distance <= CONTACT_TOLERANCE) & (push > 0.0)
 
 
 def typical_force(spring_force: NDArray[np.float64], families: NDArray[np.int8]) -> float:

@@ -17,8 +17,11 @@ Each iteration solves, in the directions every node may move (the projector P of
   pushed once on it (`held_nodes`): its normal direction is removed
   from P (the Baraff-Witkin constraint filter I - n n^T) and its step gets the linearised
   constraint correction -d n that puts it on the surface (so nodes do not hover and chatter in
-  and out of the set); a node the springs pull away from the body is released. The reaction is
-  lambda_i = -R_i . n_i >= 0 and H_i the Hessian of the body's signed distance (its curvature)
+  and out of the set); a node the springs pull away from the body is released, unless its
+  Newton move then goes into the body (`entering`: it stays held and the move is redone, at most
+  ``KEEP_PASSES`` times). The reaction is lambda_i >= 0 (`cloth.solvers.common.body_push`:
+  -R_i . n_i, or from the horizontal balance alone at a sliding edge node, whose support carries
+  the vertical force) and H_i the Hessian of the body's signed distance (its curvature)
   at the contact point: the term -lambda H makes the step exact for sliding on a curved body, so
   convergence is quadratic (closed-form bodies, the smooth torso). On a mesh every active face
   plane is a constraint (`_mesh_step`: a node on an edge pushed by both faces slides along the
@@ -58,6 +61,8 @@ ARMIJO = 1e-4
 MAX_HALVINGS = 30
 REGULARISATION = 1e-10
 GAP = 0.01
+#: Direction passes: a released node whose step enters the body is held, and the step redone.
+KEEP_PASSES = 4
 
 
 def _block_diagonal(blocks: NDArray[np.float64]) -> sp.csr_matrix:
@@ -79,7 +84,7 @@ def held_nodes(problem: Problem, ev: Evaluation, k: Stiffness) -> NDArray[np.boo
     ``k(True)`` is the projected stiffness, assembled only if some node hovers.
     """
     gap = GAP * float(problem.grid.rest_length.min())
-    push = -np.einsum("ij,ij->i", ev.forces, ev.normal)
+    push = ev.push
     held = (ev.distance <= CONTACT_TOLERANCE) & (push > 0.0)
     hovering = np.flatnonzero((ev.distance > CONTACT_TOLERANCE) & (ev.distance <= gap) & (push > 0))
     if hovering.size:
@@ -92,6 +97,17 @@ def held_nodes(problem: Problem, ev: Evaluation, k: Stiffness) -> NDArray[np.boo
                 k_n += normal[:, a] * entry * normal[:, b]
         held[hovering] = push[hovering] >= k_n * ev.distance[hovering]
     return held
+
+
+def entering(
+    problem: Problem, ev: Evaluation, held: NDArray[np.bool_], dx: NDArray[np.float64]
+) -> NDArray[np.bool_]:
+    """Nodes on the body that the active set releases (not ``held``) but whose Newton move
+    ``dx`` ((N, 3), m) goes into the body: released, they would be stepped inside and projected
+    back, and the line search would halve the step every iteration; they stay held."""
+    touching = (ev.distance <= CONTACT_TOLERANCE) & (problem.constraint != FIXED)
+    inward = np.einsum("ij,ij->i", dx, ev.normal) < -CONTACT_TOLERANCE
+    return touching & ~held & inward
 
 
 def stiffness_at(problem: Problem, ev: Evaluation) -> Stiffness:
@@ -114,7 +130,7 @@ def newton_matrix(
     hessian = getattr(problem.body, "hessian", None)
     if hessian is not None and np.any(held):
         held = np.flatnonzero(held)
-        reaction = -np.einsum("ij,ij->i", ev.forces[held], ev.normal[held])
+        reaction = ev.push[held]
         blocks = np.zeros((problem.grid.n_nodes, 3, 3))
         blocks[held] = reaction[:, None, None] * hessian(ev.closest[held])
         k = k - _block_diagonal(blocks)
@@ -130,11 +146,16 @@ def newton_step(problem: Problem, ev: Evaluation, solver: str) -> tuple[Evaluati
     held = held_nodes(problem, ev, k)
     if isinstance(problem.body, MeshBody) and np.any(held):
         return _mesh_step(problem, ev, held, k, solver)
-    projector = constraint_basis(problem.constraint, ev.normal, held)
     # the exact Hessian first (compressed springs soften the fabric across them) where the
     # backend takes indefinite matrices, then the projected one
     tries = (False, True) if solver in INDEFINITE else (True,)
-    dx, slope = _direction(problem, ev, held, projector, k, solver, tries)
+    for _ in range(KEEP_PASSES):
+        projector = constraint_basis(problem.constraint, ev.normal, held)
+        dx, slope = _direction(problem, ev, held, projector, k, solver, tries)
+        enter = entering(problem, ev, held, dx)
+        if not np.any(enter):
+            break
+        held = held | enter
     # linearised contact: held nodes step onto the surface (along z-free normal when sliding)
     normal = ev.normal[held].copy()
     sliding = problem.constraint[held] == SLIDING

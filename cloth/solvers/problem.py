@@ -13,6 +13,7 @@ from cloth.grid import Grid
 from cloth.mechanics import SpringState, energy, spring_forces, spring_state
 from cloth.solvers.common import (
     CONTACT_TOLERANCE,
+    body_push,
     constraint_basis,
     pushing,
     relative_residual,
@@ -29,7 +30,9 @@ class Evaluation:
     """Everything the solvers need at positions x ((N, 3), m).
 
     forces (N, 3) N: resultant spring force R; distance (N,) m, closest (N, 3) m, normal (N, 3):
-    body query; on_body (N,) bool: nodes held by the body (on or inside it and pushed into it);
+    body query; push (N,) N: the body's reaction lambda that would balance each node
+    (`cloth.solvers.common.body_push`); on_body (N,) bool: nodes held by the body (on or inside
+    it, lambda > 0);
     projector (N, 3, 3): allowed directions; free (N, 3) N: P R; unbalanced (N, 3) N: R less
     the body's reaction (no edge constraints); residual (1); energy (J);
     penetration (m, >= 0); springs: the spring state.
@@ -41,6 +44,7 @@ class Evaluation:
     distance: NDArray[np.float64]
     closest: NDArray[np.float64]
     normal: NDArray[np.float64]
+    push: NDArray[np.float64]
     on_body: NDArray[np.bool_]
     projector: NDArray[np.float64]
     free: NDArray[np.float64]
@@ -64,12 +68,12 @@ class Problem:
         spring_force = spring_forces(springs, self.grid)
         forces = -(_operators(self.grid).incidence_t @ spring_force)
         distance, closest, normal = self.body.query(x)
-        on_body = pushing(forces, normal, distance)
+        push = body_push(forces, normal, self.constraint)
+        on_body = pushing(push, distance)
         projector = constraint_basis(self.constraint, normal, on_body)
         free = np.einsum("nij,nj->ni", projector, forces)
-        # what the body cannot balance (before edge constraints): the pressure's complement
-        push = np.minimum(np.einsum("ij,ij->i", forces, normal), 0.0)
-        unbalanced = forces - np.where(on_body, push, 0.0)[:, None] * normal
+        # what the body cannot balance (before edge constraints): R + lambda n on held nodes
+        unbalanced = forces + np.where(on_body, push, 0.0)[:, None] * normal
         if isinstance(self.body, MeshBody) and np.any(on_body):
             # the exact frictionless residual on a polyhedron: remove the normal cone, then
             # what the edge constraints carry
@@ -94,6 +98,7 @@ class Problem:
             distance=distance,
             closest=closest,
             normal=normal,
+            push=push,
             on_body=on_body,
             projector=projector,
             free=free,
