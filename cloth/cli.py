@@ -91,30 +91,24 @@ def _body_torso(args: argparse.Namespace) -> int:
 
 
 def _body_check(args: argparse.Namespace) -> int:
-    import numpy as np
+    from cloth.bodies.check import describe
+    from cloth.bodies.surface import FitOptions
 
-    from cloth.bodies import MeshBody
-
-    body = MeshBody.load(args.mesh, units=args.units, up=args.up, repair=args.repair)
-    report = body.report
-    low, high = body.z_range
-    lo, hi = body.vertices.min(axis=0), body.vertices.max(axis=0)
-    lines = [
-        f"mesh: {args.mesh} ({args.units}, {args.up} up; shown in m, z up)",
-        f"vertices: {report.n_vertices}  faces: {report.n_faces}",
-        f"watertight: {report.watertight}  consistently wound: {report.winding_consistent}  "
-        f"degenerate faces: {report.degenerate_faces}  volume: {report.volume:.6g} m3",
-        f"bounds: x {lo[0]:.4f}..{hi[0]:.4f}  y {lo[1]:.4f}..{hi[1]:.4f}  "
-        f"z {lo[2]:.4f}..{hi[2]:.4f} m",
-        f"height: {high - low:.4f} m",
-    ]
-    if report.repairs:
-        lines.append("repairs: " + "; ".join(report.repairs))
-    lines.append("girth profile:  height [m]   section [m]   convex hull [m]")
-    for z in np.linspace(low, high, args.levels + 2)[1:-1]:
-        section, hull = body.girth(float(z))
-        lines.append(f"                {z:10.4f}   {section:11.4f}   {hull:15.4f}")
+    lines = describe(
+        args.mesh, args.units, args.up, args.repair, args.levels, args.surface,
+        FitOptions(args.smoothing, args.spacing), args.curvature, args.surface_file,
+    )  # fmt: skip
     print("\n".join(lines))
+    return 0
+
+
+def _body_fit(args: argparse.Namespace) -> int:
+    from cloth.bodies.mesh import MeshBody
+    from cloth.bodies.surface import FitOptions
+    from cloth.bodies.surfacefile import load_or_fit
+
+    mesh = MeshBody.load(args.mesh, args.units, args.up, args.repair, allow_holes=True)
+    load_or_fit(mesh, FitOptions(args.smoothing, args.spacing), args.output)
     return 0
 
 
@@ -348,6 +342,13 @@ def _positive_int(text: str) -> int:
     return value
 
 
+def _surface_options(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument(
+        "--smoothing", type=float, help="smoothing width sigma, m (default: from the mesh)"
+    )
+    parser.add_argument("--spacing", type=float, help="grid spacing h, m (default: sigma / 2.5)")
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of the ``cloth`` command."""
     parser = argparse.ArgumentParser(
@@ -429,7 +430,30 @@ def build_parser() -> argparse.ArgumentParser:
     check.add_argument("--up", default="z", help="axis of the file that points up: x, y or z")
     check.add_argument("--repair", action="store_true", help="let trimesh repair defects")
     check.add_argument("--levels", type=int, default=10, help="heights in the girth profile")
+    _surface_options(check)
+    check.add_argument(
+        "--surface", choices=("smooth", "mesh"), default="smooth",
+        help="contact surface: smooth (fit it and report its deviation) or mesh (the facets)",
+    )  # fmt: skip
+    check.add_argument(
+        "--curvature", type=Path, help="write the smooth surface's mean curvature figure (PNG)"
+    )
+    check.add_argument(
+        "--surface-file", type=Path, help="a fitted surface (cloth body fit) to use if it fits"
+    )
     check.set_defaults(handler=_body_check)
+    fit = body_commands.add_parser(
+        "fit",
+        help="fit the smooth contact surface of a mesh -> surface.nc",
+        description="Fit (or reuse) the smooth contact surface of a mesh body (docs/bodies.md).",
+    )
+    fit.add_argument("mesh", type=Path, help="mesh file (OBJ, STL, PLY, GLB, ...)")
+    fit.add_argument("--units", default="m", help="length unit of the file: m, cm or mm")
+    fit.add_argument("--up", default="z", help="axis of the file that points up: x, y or z")
+    fit.add_argument("--repair", action="store_true", help="let trimesh repair defects")
+    _surface_options(fit)
+    fit.add_argument("-o", "--output", type=Path, required=True, help="surface file (.nc)")
+    fit.set_defaults(handler=_body_fit)
 
     pre = commands.add_parser(
         "predeform",

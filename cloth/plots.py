@@ -69,6 +69,8 @@ def _body_triangles(body, z_low: float, z_high: float):
     """Vertices and faces of a body for drawing (meshes as they are, closed forms sampled)."""
     from cloth.bodies import MeshBody
 
+    if not isinstance(body, MeshBody):
+        body = getattr(body, "mesh", body)  # a smooth surface fitted to a mesh: draw the mesh
     if isinstance(body, MeshBody):
         keep = np.all(
             (body.vertices[body.faces][:, :, 2] >= z_low)
@@ -258,3 +260,33 @@ def plot_result(
     paths.append(_save(fig, folder / "convergence.png"))
     paths.append(plot_material(ds, folder / "material.png"))
     return paths
+
+
+def plot_body_field(
+    points: np.ndarray, values: np.ndarray, label: str, path: str | Path, title: str = ""
+) -> Path:
+    """Points on a body ((P, 3), m, z up, front towards +y) coloured by ``values`` ((P,), label
+    with unit), seen from the front, the side (+x) and the back, on one colour scale."""
+    from matplotlib import colors
+
+    finite = values[np.isfinite(values)]
+    low, high = np.percentile(finite, [1, 99]) if finite.size else (0.0, 1.0)
+    norm = colors.TwoSlopeNorm(0.0, min(low, -1e-9), max(high, 1e-9)) if low < 0 < high else (
+        colors.Normalize(low, high)
+    )  # fmt: skip
+    fig, axes = plt.subplots(1, 3, figsize=(11, 5.2), layout="constrained", sharey=True)
+    views = (("front", 0, 1, 1.0), ("side", 1, 0, 1.0), ("back", 0, 1, -1.0))
+    for ax, (name, across, depth, facing) in zip(axes, views, strict=True):
+        order = np.argsort(facing * points[:, depth])  # far points first, near ones on top
+        shown = ax.scatter(
+            facing * points[order, across] * (1 if name != "side" else -1), points[order, 2],
+            c=values[order], cmap="coolwarm", norm=norm, s=3, linewidths=0,
+        )  # fmt: skip
+        ax.set_title(name)
+        ax.set_aspect("equal")
+        ax.set_xlabel("m")
+    axes[0].set_ylabel("height z [m]")
+    fig.colorbar(shown, ax=axes, shrink=0.8, label=label)
+    if title:
+        fig.suptitle(title)
+    return _save(fig, path)

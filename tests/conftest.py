@@ -25,6 +25,29 @@ def write_obj(path, vertices, faces):
     return path
 
 
+def capped_cylinder(radius: float, height: float, segments: int, bottom: float = 0.0):
+    """Vertices ((V, 3), m) and outward faces of a closed cylinder about z: ``segments`` around,
+    rings about one segment apart (regular triangles, as a scanner's), fan caps."""
+    import numpy as np
+
+    rings = max(2, round(height / (2 * np.pi * radius / segments)) + 1)
+    angle = 2 * np.pi * np.arange(segments) / segments
+    z = bottom + np.linspace(0.0, height, rings)
+    ring = np.column_stack([radius * np.cos(angle), radius * np.sin(angle)])
+    side = np.concatenate([np.column_stack([ring, np.full(segments, h)]) for h in z])
+    vertices = np.vstack([side, [[0.0, 0.0, bottom], [0.0, 0.0, bottom + height]]])
+    i, i1 = np.arange(segments), (np.arange(segments) + 1) % segments
+    faces = []
+    for r in range(rings - 1):
+        a, b = r * segments + i, r * segments + i1
+        c, d = a + segments, b + segments
+        faces += [np.stack([a, b, d], axis=1), np.stack([a, d, c], axis=1)]
+    low, high, last = len(side), len(side) + 1, (rings - 1) * segments
+    faces.append(np.stack([np.full(segments, low), i1, i], axis=1))
+    faces.append(np.stack([np.full(segments, high), last + i, last + i1], axis=1))
+    return vertices, np.concatenate(faces)
+
+
 @pytest.fixture
 def fabric() -> Fabric:
     return make_fabric()

@@ -133,8 +133,11 @@ class SplineField:
     def evaluate(self, points: ArrayLike, order: int = 2):
         """phi ((P,), m), and with ``order`` >= 1 its gradient ((P, 3)), with 2 its Hessian
         ((P, 3, 3), 1/m). Points outside `within` get the value of the nearest cell (their
-        values mean nothing: check `within`)."""
+        values mean nothing: check `within`); points that are not finite get NaN."""
         p = as_points(points)
+        finite = np.all(np.isfinite(p), axis=1)
+        if not np.all(finite):  # NaN in, NaN out (a folded line-search trial), no garbage cells
+            p = np.where(finite[:, None], p, self.origin + 2 * self.spacing)
         value = np.empty(len(p))
         gradient = np.empty((len(p), 3)) if order >= 1 else None
         hessian = np.empty((len(p), 3, 3)) if order >= 2 else None
@@ -146,6 +149,10 @@ class SplineField:
                 gradient[part] = out[1]
             if hessian is not None:
                 hessian[part] = out[2]
+        if not np.all(finite):
+            for out in (value, gradient, hessian):
+                if out is not None:
+                    out[~finite] = np.nan
         if order == 0:
             return value
         if order == 1:
@@ -384,7 +391,9 @@ def fit_surface(
         / h**2
         * laplace(gaussian_filter(smoothed, 1.0, mode="nearest", truncate=TRUNCATE), mode="nearest")
     )
-    spline = SplineField(low, h, smoothed)
+    # float32 coefficients (5e-9 m at the clamp) halve the file; the fit uses the rounded ones
+    # too, so a surface read from its file is the surface that was fitted, bit for bit
+    spline = SplineField(low, h, smoothed.astype(np.float32).astype(np.float64))
     value, gradient = spline.evaluate(mesh.vertices, order=1)
     off = value / np.linalg.norm(gradient, axis=1)
     fit = SurfaceFit(

@@ -6,11 +6,11 @@ it, so it is fitted once and kept: in the file the case's ``surface_file`` names
 (`cache_dir`) under its key, the sha256 of the mesh as used (metres, z up) and the options. A
 file whose key differs from the mesh's is not used: the surface is fitted anew.
 
-Variables (CF-1.11): ``coefficient`` (x, y, z), m: the cubic B-spline coefficients (the
-smoothed signed distance, positive outside), zlib-compressed; coordinates ``x``, ``y``, ``z``
-(m) at the coefficients' positions. Attributes: ``cloth_kind = "surface"``, the key, sigma,
-h, the trusted band and clamp, the crease spacing and the vertices' deviation (m), the mesh's
-source.
+Variables (CF-1.11): ``coefficient`` (x, y, z), m: the cubic B-spline coefficients (the smoothed
+signed distance, positive outside), zlib-compressed; coordinates ``x``, ``y``, ``z`` (m) at the
+coefficients' positions (float32, the precision the fit rounds to). Attributes: ``cloth_kind =
+"surface"``, the key, sigma, h, the trusted band and clamp, the crease spacing and the vertices'
+deviation (m), the mesh's source.
 """
 
 from __future__ import annotations
@@ -57,7 +57,7 @@ def write_surface(fit: SurfaceFit, path: str | Path, source: str = "") -> Path:
         {
             "coefficient": (
                 ("x", "y", "z"),
-                spline.coefficients,
+                spline.coefficients.astype(np.float32),  # the fit's own precision
                 {
                     "units": "m",
                     "long_name": "cubic B-spline coefficients of the smoothed signed distance "
@@ -83,7 +83,7 @@ def read_surface(path: str | Path) -> SurfaceFit:
     ds = read_netcdf(path, "surface", ("coefficient",))
     x, y, z = (ds[a].values for a in "xyz")
     spline = SplineField(np.array([x[0], y[0], z[0]]), float(ds.attrs["spacing_m"]),
-                         ds["coefficient"].values)  # fmt: skip
+                         ds["coefficient"].values.astype(np.float64))  # fmt: skip
     return SurfaceFit(
         field=spline, key=str(ds.attrs["key"]),
         **{name: float(ds.attrs[f"{name}_m"]) for name in _LENGTHS},

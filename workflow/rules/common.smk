@@ -42,10 +42,28 @@ def ingest_flags(wildcards):
     return " ".join(shlex.quote(flag) for flag in flags)
 
 
+def with_surface(body, name):
+    """A body block whose smooth surface (a mesh body's default) is the pipeline's file
+    results/bodies/{name}.surface.nc, made once by rule body_surface for every case on it."""
+    if "mesh" not in body or body.get("surface", "smooth") != "smooth":
+        return body
+    return {"surface_file": f"results/bodies/{name}.surface.nc", **body}
+
+
+def body_block(name):
+    """The body block of a body name: a configured body, or case-{case} for a case's own."""
+    if name.startswith("case-") and name[5:] in config.get("cases", {}):
+        return config["cases"][name[5:]]["body"]
+    return config["bodies"][name]
+
+
 def resolved_case(name, block=None):
     """Case ``name`` (of the config, or the given block) with its material as the ingested
     file, validated."""
-    block = dict(config.get("cases", {})[name] if block is None else block)
+    if block is None:
+        block = dict(config.get("cases", {})[name])
+        block["body"] = with_surface(block["body"], f"case-{name}")
+    block = dict(block)
     material = block.get("material")
     if material not in config["materials"]:
         raise InputError(
@@ -86,7 +104,7 @@ def sweep_cases():
                 name = f"{material}__{body}__{reduction_tag(reduction)}"
                 blocks[name] = {
                     "material": material,
-                    "body": bodies[body],
+                    "body": with_surface(bodies[body], body),
                     "garment": {**sweep["garment"], "reduction": reduction},
                     "solver": sweep.get("solver", {}),
                 }
@@ -160,7 +178,7 @@ def case_block(name):
             sweep = config["sweep"]
             block = {
                 "material": row["material"],
-                "body": config["bodies"][row["body"]],
+                "body": with_surface(config["bodies"][row["body"]], row["body"]),
                 "garment": {**sweep["garment"], "reduction": float(row["reduction"])},
                 "solver": sweep.get("solver", {}),
             }
@@ -178,7 +196,7 @@ def body_files(wildcards):
     """Files the body of a case reads (mesh or size chart), so edits rerun the case."""
     body = case_block(wildcards.case)["body"]
     if "mesh" in body:
-        return [body["mesh"]]
+        return [body["mesh"], *([body["surface_file"]] if "surface_file" in body else [])]
     if "torso" in body:
         return [body["torso"].get("chart", "data/bodies/size_chart.csv")]
     return []
@@ -196,6 +214,22 @@ def torso_flags(wildcards):
         if key in spec:
             flags += [f"--{key}", str(spec[key])]
     return " ".join(shlex.quote(flag) for flag in flags)
+
+
+def surface_flags(wildcards):
+    """`cloth body fit` flags of a mesh body block."""
+    block = body_block(wildcards.body)
+    flags = []
+    for key in ("units", "up", "smoothing", "spacing"):
+        if key in block:
+            flags += [f"--{key}", str(block[key])]
+    if block.get("repair"):
+        flags.append("--repair")
+    return " ".join(shlex.quote(flag) for flag in flags)
+
+
+def surface_mesh(wildcards):
+    return body_block(wildcards.body)["mesh"]
 
 
 def sweep_results(wildcards):
@@ -217,6 +251,10 @@ def all_outputs():
     """Every final output of the configured pipeline."""
     torsos = [n for n, b in config.get("bodies", {}).items() if "torso" in b]
     sweep = expand("results/bodies/{body}.ply", body=torsos)
+    sweep += expand(
+        "results/bodies/{body}.check.txt",
+        body=[n for n, b in config.get("bodies", {}).items() if "mesh" in b],
+    )
     if SWEEP_INDEX:
         sweep += ["results/sweep.nc", "results/sweep.csv", "results/design.png"]
         if config.get("targets"):
