@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import shutil
 import subprocess
 import sys
@@ -192,3 +193,42 @@ def test_a_killed_run_leaves_no_corrupt_output_and_resumes(tmp_path):
     result = snakemake(where, "--configfile", "config/ci.yaml", "--rerun-incomplete")
     assert result.returncode == 0, result.stderr[-2000:]
     assert (where / "results/design_confirmed.csv").exists()
+
+
+def test_mesh_body_pipeline_fits_its_surface_once(tmp_path):
+    """A case on a mesh body: rule body_surface fits the smooth surface once (the case's body is
+    the configured body "tube"), the case and the check read it, the result records the
+    smoothing, and a second run has nothing to do."""
+    from tests.conftest import capped_cylinder, write_obj
+
+    where = workspace(tmp_path)
+    write_obj(where / "data/bodies/tube.obj", *capped_cylinder(0.1, 0.5, 48))
+    config = {
+        "materials": {"powernet": {"table": "data/materials/powernet.csv", "knots": 6}},
+        "bodies": {"tube": {"mesh": "data/bodies/tube.obj"}},
+        "cases": {
+            "ontube": {
+                "material": "powernet",
+                "body": {"mesh": "data/bodies/tube.obj"},
+                "garment": {"bottom": 0.15, "top": 0.35, "reduction": 0.2, "grid": [32, 6]},
+                "solver": {"tolerance": 1.0e-8, "max_iterations": 60},
+            }
+        },
+    }
+    path = where / "config/config.yaml"  # the workspace's default: no torso sweep merged in
+    path.write_text(yaml.safe_dump(config))
+    result = snakemake(where)
+    assert result.returncode == 0, result.stderr[-3000:]
+    assert sorted(p.name for p in (where / "results/bodies").glob("*.surface.nc")) == [
+        "tube.surface.nc"
+    ]
+    check = (where / "results/bodies/tube.check.txt").read_text()
+    assert "vertices from the smooth surface: max" in check
+    assert (where / "results/bodies/tube.curvature.png").stat().st_size > 10_000
+    with xr.open_dataset(where / "results/cases/ontube/result.nc") as ds:
+        body = json.loads(ds.attrs["body"])
+        assert body["surface"]["kind"] == "smooth" and body["surface"]["smoothing_m"] > 0
+        assert body["surface"]["file"].endswith("tube.surface.nc")
+        assert ds.attrs["converged"] == 1
+    again = snakemake(where, "-n")
+    assert "Nothing to be done" in again.stdout + again.stderr

@@ -7,6 +7,11 @@ from cloth.config import validate_case
 from cloth.errors import InputError
 
 
+wildcard_constraints:
+    # body names as the config schema allows them (no dots: {body}.check.txt is not a torso)
+    body="[A-Za-z0-9][A-Za-z0-9_-]*",
+
+
 def material_config(name):
     """The config block of material ``name``."""
     return config["materials"][name]
@@ -44,7 +49,8 @@ def ingest_flags(wildcards):
 
 def with_surface(body, name):
     """A body block whose smooth surface (a mesh body's default) is the pipeline's file
-    results/bodies/{name}.surface.nc, made once by rule body_surface for every case on it."""
+    results/bodies/{name}.surface.nc, made once by rule body_surface for every case on it.
+    """
     if "mesh" not in body or body.get("surface", "smooth") != "smooth":
         return body
     return {"surface_file": f"results/bodies/{name}.surface.nc", **body}
@@ -62,7 +68,9 @@ def resolved_case(name, block=None):
     file, validated."""
     if block is None:
         block = dict(config.get("cases", {})[name])
-        block["body"] = with_surface(block["body"], f"case-{name}")
+        bodies = config.get("bodies", {})
+        same = [key for key, body in bodies.items() if body == block["body"]]
+        block["body"] = with_surface(block["body"], same[0] if same else f"case-{name}")
     block = dict(block)
     material = block.get("material")
     if material not in config["materials"]:
@@ -196,7 +204,10 @@ def body_files(wildcards):
     """Files the body of a case reads (mesh or size chart), so edits rerun the case."""
     body = case_block(wildcards.case)["body"]
     if "mesh" in body:
-        return [body["mesh"], *([body["surface_file"]] if "surface_file" in body else [])]
+        return [
+            body["mesh"],
+            *([body["surface_file"]] if "surface_file" in body else []),
+        ]
     if "torso" in body:
         return [body["torso"].get("chart", "data/bodies/size_chart.csv")]
     return []
