@@ -6,13 +6,13 @@ girth of the body at z_j (a graded pattern, how compression garments are cut), o
 ``circumference`` (a rectangle). Warp rest length: (1 - lengthwise_reduction) (top - bottom)/(m-1).
 
 Wrapping. Each row is placed on the convex hull of the body's cross-section at its height (the
-fabric bridges concavities such as the cleavage; with ``loop_point`` only the loop enclosing that
-point, e.g. the torso between the arms), at equal arc length, starting at the centre back (the
-hull's crossing of the ray from its centroid towards -y) and running counter-clockwise seen from
-above. Nodes closer to the surface than ``offset`` (default 0.1 mm) are then moved to the closest
-surface point plus ``offset`` along the outward normal, so every node starts on or just outside
-the body: signed distance in [0, offset] where the hull touches the body, larger where it
-bridges a concavity.
+fabric bridges concavities such as the cleavage; with ``loop_point`` only the loop enclosing
+that point, e.g. the torso between the arms; without it, where a row meets several loops, the
+largest), at equal arc length, starting at the centre back (the hull's crossing of the ray from
+its centroid towards -y) and running counter-clockwise seen from above. Nodes closer to the
+surface than ``offset`` (default 0.1 mm) are then moved to the closest surface point plus
+``offset`` along the outward normal, so every node starts on or just outside the body: signed
+distance in [0, offset] where the hull touches the body, larger where it bridges a concavity.
 
 Movement (the paper's three kinds): the lower and upper rows are ``fixed``, ``sliding`` (height
 held, free around and in/out) or ``free``; every other node is free, and any node may rest on
@@ -29,6 +29,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from cloth.bodies import Body, body_from_config, hull_polygon, loop_around, polygon_perimeter
+from cloth.bodies.mesh import loop_area
 from cloth.config import validate_case
 from cloth.errors import InputError
 from cloth.grid import build_grid
@@ -74,9 +75,11 @@ def place_on_hull(hull: NDArray[np.float64], n: int) -> NDArray[np.float64]:
 def row_hulls(
     body: Body, heights: NDArray[np.float64], loop_point: list[float] | None
 ) -> list[NDArray[np.float64]]:
-    """Convex hull of the body's cross-section (or of the loop around ``loop_point``) per row."""
+    """Convex hull per row of the body's cross-section: of the loop around ``loop_point``, else
+    of the largest loop where the section has several (arms apart from the torso; logged), else
+    of the one loop."""
     low, high = body.z_range
-    hulls = []
+    hulls, several = [], []
     for z in heights:
         if not low <= z <= high:
             raise InputError(
@@ -87,7 +90,19 @@ def row_hulls(
         loops = body.sections(float(z))
         if loop_point is not None:
             loops = loop_around(loops, loop_point)
+        elif len(loops) > 1:
+            areas = [loop_area(loop) for loop in loops]
+            several.append((float(z), len(loops), max(areas) / sum(areas)))
+            loops = [loops[int(np.argmax(areas))]]
         hulls.append(hull_polygon(loops))
+    if several:
+        log.warning(
+            "%d of %d rows (%.4g-%.4g m) meet %d section loops; the garment wraps the largest "
+            "(%.0f-%.0f %% of their area); give garment.loop_point to choose another",
+            len(several), len(heights), several[0][0], several[-1][0],
+            max(count for _, count, _ in several), 100 * min(s for *_, s in several),
+            100 * max(s for *_, s in several),
+        )  # fmt: skip
     return hulls
 
 
@@ -125,10 +140,11 @@ def predeform(case: dict[str, Any], base_dir: str | Path = ".", source: str = "c
     n, m = garment["grid"]
     heights = np.linspace(garment["bottom"], garment["top"], m)
     hulls = row_hulls(body, heights, garment.get("loop_point"))
+    hull_girth = np.array([polygon_perimeter(h) for h in hulls])
     if garment.get("loop_point") is None:  # the body's own hull girth: exact for closed forms
-        hull_girth = np.array([body.girth(float(z))[1] for z in heights])
-    else:
-        hull_girth = np.array([polygon_perimeter(h) for h in hulls])
+        whole = np.array([body.girth(float(z))[1] for z in heights])
+        one_loop = np.isclose(whole, hull_girth, rtol=1e-3)  # else: the largest of several
+        hull_girth = np.where(one_loop, whole, hull_girth)
     if "reduction" in garment:
         circumference = (1.0 - garment["reduction"]) * hull_girth
     else:

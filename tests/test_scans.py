@@ -18,7 +18,7 @@ from cloth.solvers.common import body_push, pushing
 from cloth.solvers.newton import entering
 from cloth.solvers.problem import Problem
 from cloth.state import FREE, SLIDING
-from tests.conftest import write_obj
+from tests.conftest import capped_cylinder, write_obj
 from tests.test_relax import solve, tube
 
 #: The garment of the comparison: the hip line is its lower edge, the bust line inside it.
@@ -103,3 +103,40 @@ def test_torso_mesh_converges_and_presses_like_the_smooth_torso(smooth_torso, tm
     for name in ("hip", "waist", "underbust"):
         assert mesh[name] == pytest.approx(smooth[name], rel=0.03), name
     assert mesh["bust"] == pytest.approx(smooth["bust"], rel=0.10)
+
+
+def test_garment_wraps_the_largest_loop_and_says_so(tmp_path, caplog):
+    """A torso with an arm beside it: every row meets two loops; without loop_point the garment
+    wraps the torso's (the larger) and the log says so; with it, the loop given."""
+    torso_v, torso_f = capped_cylinder(0.12, 0.6, 48)
+    arm_v, arm_f = capped_cylinder(0.04, 0.5, 24, bottom=0.05)
+    arm_v = arm_v + np.array([0.25, 0.0, 0.0])
+    vertices = np.vstack([torso_v, arm_v])
+    faces = np.vstack([torso_f, arm_f + len(torso_v)])
+    path = write_obj(tmp_path / "armed.obj", vertices, faces)
+    garment = {"bottom": 0.2, "top": 0.4, "reduction": 0.1, "grid": [24, 4]}
+    case = {"material": "powernet", "body": {"mesh": str(path)}, "garment": garment}
+    with caplog.at_level("WARNING", logger="cloth.predeform"):
+        state = predeform(case)
+    assert "wraps the largest" in caplog.text
+    radius = np.hypot(state.x[:, 0], state.x[:, 1])
+    assert np.all(np.abs(radius - 0.12) < 2e-3)
+    case["garment"] = {**garment, "loop_point": [0.25, 0.0]}
+    state = predeform(case)
+    radius = np.hypot(state.x[:, 0] - 0.25, state.x[:, 1])
+    assert np.all(np.abs(radius - 0.04) < 2e-3)
+
+
+def test_a_row_with_no_closed_section_stops_naming_its_height():
+    """A tube whose side is cut open along most of its height has only open arcs there (a gap
+    of 16 % of the arc: more than a small hole)."""
+    from cloth.bodies import MeshBody
+    from cloth.errors import InputError
+
+    vertices, faces = capped_cylinder(0.1, 0.4, 32)
+    centre = vertices[faces].mean(axis=1)
+    angle = np.arctan2(centre[:, 1], centre[:, 0])
+    strip = (np.abs(angle) < 0.5) & (np.abs(centre[:, 2] - 0.2) < 0.19)  # a 0.1 m wide window
+    body = MeshBody(vertices, faces[~strip])
+    with pytest.raises(InputError, match=r"no closed cross-section at height 0\.2 m"):
+        body.sections(0.2)

@@ -282,7 +282,16 @@ class MeshBody:
                 self.source or None,
                 "garment",
             )
-        return _loops(segments)
+        loops = _loops(segments)
+        closed = [loop for loop, ok in zip(loops, map(_closed, loops), strict=True) if ok]
+        if not closed:
+            raise InputError(
+                f"the body has no closed cross-section at height {z:.6g} m (the mesh is open "
+                "there); choose heights where the body is closed, or repair the mesh",
+                self.source or None,
+                "garment",
+            )
+        return closed
 
     def girth(self, z: float) -> tuple[float, float]:
         loops = self.sections(z)
@@ -303,6 +312,30 @@ def _loops(segments: Segments) -> list[Segments]:
     _, label = connected_components(graph, directed=False)
     seg_label = label[ids[:, 0]]
     return [segments[seg_label == value] for value in np.unique(seg_label)]
+
+
+#: An open section chain whose two ends are closer than this share of its length is closed
+#: across the gap (a small hole in the mesh at that height).
+GAP_SHARE = 0.1
+
+
+def _closed(loop: Segments) -> bool:
+    """Whether a connected chain of section segments is a closed loop, or one whose two loose
+    ends lie within `GAP_SHARE` of its length of each other (a small hole)."""
+    scale = max(float(np.abs(loop).max()), 1e-9)
+    keys = np.round(loop.reshape(-1, 2) / (1e-9 * scale)).astype(np.int64)
+    _, first, counts = np.unique(keys, axis=0, return_index=True, return_counts=True)
+    ends = loop.reshape(-1, 2)[first[counts == 1]]
+    if len(ends) == 0:
+        return True
+    return len(ends) == 2 and np.linalg.norm(ends[1] - ends[0]) <= GAP_SHARE * loop_length(loop)
+
+
+def loop_area(loop: Segments) -> float:
+    """Area (m2) of the convex hull of a section loop: which loop is the largest."""
+    from scipy.spatial import ConvexHull
+
+    return float(ConvexHull(loop.reshape(-1, 2)).volume)
 
 
 def loop_around(loops: list[Segments], point: ArrayLike) -> list[Segments]:

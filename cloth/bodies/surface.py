@@ -163,7 +163,7 @@ class SplineField:
         h = self.spacing
         shape = np.asarray(self.coefficients.shape)
         u = (p - self.origin) / h
-        cell = np.clip(np.floor(u).astype(np.intp), 1, shape - 3)
+        cell = np.floor(np.clip(u, 1.0, shape - 3.0)).astype(np.intp)  # far points: an edge cell
         t = u - cell
         _, ny, nz = self.coefficients.shape
         base = ((cell[:, 0] - 1) * ny + (cell[:, 1] - 1)) * nz + (cell[:, 2] - 1)
