@@ -117,7 +117,8 @@ def main() -> None:
     path = write_obj(folder / "torso_smoothing.obj", vertices, faces)
     mesh = MeshBody(vertices, faces)
     header = ["sigma [mm]", "vertices off the surface, max / RMS [mm]", "iterations",
-              *(f"{n} [mmHg]" for n in LANDMARKS), "peak [mmHg]", "enters the mesh [mm]"]  # fmt: skip
+              *(f"{n} [mmHg]" for n in LANDMARKS), "peak [mmHg]",
+              "enters the mesh [mm]"]  # fmt: skip
     rows = [["smooth torso", "-", str(reference["iterations"]), *pressures(reference["marks"]),
              f"{reference['peak'] / MMHG:.1f}", "-"]]  # fmt: skip
     for sigma in args.smoothing:
