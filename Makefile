@@ -12,7 +12,7 @@ CONFIG ?= config/config.yaml
 export PATH := $(CURDIR)/$(BIN):$(PATH)
 export MPLBACKEND := Agg
 
-.PHONY: run test lint unit pipeline-test bench clean install
+.PHONY: run test test-slow lint unit pipeline-test bench clean install
 
 install: $(STAMP)
 
@@ -35,6 +35,10 @@ unit: $(STAMP)
 	$(BIN)/python -m pytest -q
 
 test: lint unit
+
+# the minutes-long acceptance cases (mesh bodies at full size); not part of CI's make test
+test-slow: $(STAMP)
+	$(BIN)/python -m pytest -q -m slow
 
 bench: $(STAMP)
 	$(BIN)/python -m pip install --quiet -e '.[bench]'
