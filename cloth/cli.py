@@ -342,7 +342,12 @@ def _positive_int(text: str) -> int:
     return value
 
 
-def _surface_options(parser: argparse.ArgumentParser) -> None:
+def _mesh_options(parser: argparse.ArgumentParser) -> None:
+    """A mesh file as a case reads it, and the options of its smooth surface."""
+    parser.add_argument("mesh", type=Path, help="mesh file (OBJ, STL, PLY, GLB, ...)")
+    parser.add_argument("--units", default="m", help="length unit of the file: m, cm or mm")
+    parser.add_argument("--up", default="z", help="axis of the file that points up: x, y or z")
+    parser.add_argument("--repair", action="store_true", help="let trimesh repair defects")
     parser.add_argument(
         "--smoothing", type=float, help="smoothing width sigma, m (default: from the mesh)"
     )
@@ -425,12 +430,8 @@ def build_parser() -> argparse.ArgumentParser:
         help="check a mesh and print its bounds, height and girth profile",
         description="Load a body mesh as cloth would (units, up axis, checks) and describe it.",
     )
-    check.add_argument("mesh", type=Path, help="mesh file (OBJ, STL, PLY, GLB, ...)")
-    check.add_argument("--units", default="m", help="length unit of the file: m, cm or mm")
-    check.add_argument("--up", default="z", help="axis of the file that points up: x, y or z")
-    check.add_argument("--repair", action="store_true", help="let trimesh repair defects")
+    _mesh_options(check)
     check.add_argument("--levels", type=int, default=10, help="heights in the girth profile")
-    _surface_options(check)
     check.add_argument(
         "--surface", choices=("smooth", "mesh"), default="smooth",
         help="contact surface: smooth (fit it and report its deviation) or mesh (the facets)",
@@ -447,11 +448,7 @@ def build_parser() -> argparse.ArgumentParser:
         help="fit the smooth contact surface of a mesh -> surface.nc",
         description="Fit (or reuse) the smooth contact surface of a mesh body (docs/bodies.md).",
     )
-    fit.add_argument("mesh", type=Path, help="mesh file (OBJ, STL, PLY, GLB, ...)")
-    fit.add_argument("--units", default="m", help="length unit of the file: m, cm or mm")
-    fit.add_argument("--up", default="z", help="axis of the file that points up: x, y or z")
-    fit.add_argument("--repair", action="store_true", help="let trimesh repair defects")
-    _surface_options(fit)
+    _mesh_options(fit)
     fit.add_argument("-o", "--output", type=Path, required=True, help="surface file (.nc)")
     fit.set_defaults(handler=_body_fit)
 

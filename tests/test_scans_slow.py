@@ -22,6 +22,9 @@ def smooth_torso():
     return girth_pressures({"torso": {"size": "M"}}, (96, 48))[2]
 
 
+COARSE_ALL = pytest.mark.xfail(strict=True, reason="coarse meshes do not converge: solvers.md")
+
+
 def mesh_case(tmp_path, around, rings, grid, noise=0.0, holes=0):
     vertices, faces = torso_mesh(chart_size("M"), around, rings)
     rng = np.random.default_rng(3)
@@ -41,7 +44,7 @@ def test_torso_mesh_at_384_x_192_converges(tmp_path):
     assert result.converged and result.history.residual[-1] <= 1e-8
 
 
-@pytest.mark.xfail(strict=True, reason="coarse meshes: slow rotation of the garment, solvers.md")
+@COARSE_ALL
 @pytest.mark.parametrize("grid", [(96, 48), (384, 192)])
 def test_coarse_torso_mesh_converges_and_presses_like_the_smooth_torso(
     tmp_path, smooth_torso, grid
@@ -52,20 +55,18 @@ def test_coarse_torso_mesh_converges_and_presses_like_the_smooth_torso(
         assert mesh[name] == pytest.approx(value, rel=0.03), name
 
 
-@pytest.mark.xfail(strict=True, reason="noise and holes on coarse meshes: see docs/solvers.md")
-@pytest.mark.parametrize(("noise", "holes"), [(1e-3, 0), (0.0, 3)])
-def test_noisy_or_holed_coarse_mesh_presses_like_the_clean_one(tmp_path, noise, holes):
-    _, _, clean = mesh_case(tmp_path, 32, 30, (96, 48))
-    result, _, rough = mesh_case(tmp_path, 32, 30, (96, 48), noise, holes)
-    assert result.converged
-    for name, value in clean.items():
-        assert rough[name] == pytest.approx(value, rel=0.05), name
+COARSE = COARSE_ALL
 
 
-@pytest.mark.parametrize(("noise", "holes"), [(1e-3, 0), (0.0, 3)])
-def test_noisy_or_holed_fine_mesh_presses_like_the_clean_one(tmp_path, noise, holes):
-    _, _, clean = mesh_case(tmp_path, 128, 120, (96, 48))
-    result, _, rough = mesh_case(tmp_path, 128, 120, (96, 48), noise, holes)
+@pytest.mark.parametrize(
+    ("around", "rings"), [(128, 120), pytest.param(32, 30, marks=COARSE)], ids=["fine", "coarse"]
+)
+@pytest.mark.parametrize(("noise", "holes"), [(1e-3, 0), (0.0, 3)], ids=["noise", "holes"])
+def test_noisy_or_holed_mesh_presses_like_the_clean_one(tmp_path, around, rings, noise, holes):
+    """1 mm of Gaussian vertex noise, or three small holes in the band: converged, girth-line
+    means within 5 % of the clean mesh's."""
+    _, _, clean = mesh_case(tmp_path, around, rings, (96, 48))
+    result, _, rough = mesh_case(tmp_path, around, rings, (96, 48), noise, holes)
     assert result.converged
     for name, value in clean.items():
         assert rough[name] == pytest.approx(value, rel=0.05), name
