@@ -109,7 +109,8 @@ class ImplicitBody:
         p = as_points(points)
         q = self.closest(p)
         _, g, _ = self.implicit(q)
-        normal = g / np.linalg.norm(g, axis=1, keepdims=True)
+        with np.errstate(invalid="ignore", divide="ignore"):  # NaN points (a folded trial)
+            normal = g / np.linalg.norm(g, axis=1, keepdims=True)
         distance = np.linalg.norm(p - q, axis=1)
         return np.where(self.outside(p), distance, -distance), q, normal
 
