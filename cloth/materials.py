@@ -104,6 +104,15 @@ class StressStrainCurve:
                 field="knots",
             )
         slope = np.diff(stress) / steps
+        if np.any(slope < 0):
+            bad = int(np.flatnonzero(slope < 0)[0]) + 1
+            raise InputError(
+                f"the stress falls from knot {bad - 1} to knot {bad} ({stress[bad - 1]:g} to "
+                f"{stress[bad]:g} Pa), so beyond them a stretched spring would push; give a "
+                "curve whose stress never falls, or the raw test data for a monotone fit "
+                "(--knots K)",
+                field="stress",
+            )
         modulus = self.compression_modulus
         if modulus is None:
             positive = slope[slope > 0]  # the first rising segment (a toe may be flat)

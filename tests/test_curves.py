@@ -65,7 +65,7 @@ def test_fabric_needs_positive_thickness():
 def curves(draw):
     k = draw(st.integers(2, 8))
     steps = draw(st.lists(st.floats(0.01, 0.5), min_size=k - 1, max_size=k - 1))
-    rises = draw(st.lists(st.floats(-1e5, 1e6), min_size=k - 1, max_size=k - 1))
+    rises = draw(st.lists(st.floats(0.0, 1e6), min_size=k - 1, max_size=k - 1))  # never falls
     strain = np.concatenate(([0.0], np.cumsum(steps)))
     stress = np.concatenate(([0.0], np.cumsum(rises)))
     return StressStrainCurve(strain, stress)
@@ -107,3 +107,10 @@ def test_energy_convex_where_stress_increases(curve, e1, e2, t):
     lhs = float(curve.energy_density(mid))
     rhs = t * float(curve.energy_density(e1)) + (1 - t) * float(curve.energy_density(e2))
     assert lhs <= rhs + 1e-9 * max(abs(rhs), 1.0)
+
+
+def test_a_falling_curve_is_refused():
+    """Knots (0, 0), (0.5, 1e5), (0.6, 9e4) Pa would give sigma(2.0) = -5e4 Pa: a stretched
+    spring that pushes (accepted before: linear extrapolation with the last slope)."""
+    with pytest.raises(InputError, match="the stress falls from knot 1 to knot 2"):
+        StressStrainCurve([0.0, 0.5, 0.6], [0.0, 1e5, 9e4])

@@ -132,6 +132,11 @@ BAD_TABLES = {
         GOOD_HEADER + "direction,strain,stress\nweft,0,0\nweft,0.3,5\nweft,0.2,6\n",
         "decreases",
     ),
+    "falling stress": (
+        GOOD_HEADER + "direction,strain,stress\nweft,0,0\nweft,0.5,1e5\nweft,0.6,9e4\n"
+        "warp,0,0\nwarp,1,1e5\n",
+        "the stress falls from knot 1 to knot 2",
+    ),
     "nan": (GOOD_HEADER + "direction,strain,stress\nweft,0,0\nweft,0.1,nan\n", "not finite"),
     "duplicate knots": (
         GOOD_HEADER + "direction,strain,stress\nweft,0,0\nweft,0.1,5\nweft,0.1,6\n",
