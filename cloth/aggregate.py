@@ -6,9 +6,10 @@ node, and separately over the warp springs (`stress_weft`, `stress_warp`, Pa); l
 and tensions T = sigma x thickness (N m-1).
 
 Pressure: the body's normal reaction on each node over the node's deformed tributary area
-(`cloth.pressure`). Generalised Laplace diagnostic: p_laplace = T_weft kappa_weft +
-T_warp kappa_warp with kappa the curvature of the deformed weft and warp grid lines at the node
-along the body normal (discrete: the circle through the node and its two neighbours).
+(`cloth.pressure`). Generalised Laplace diagnostic: p_laplace = T_weft kappa_weft / (1 +
+eps_warp) + T_warp kappa_warp / (1 + eps_weft), the tensions per unit deformed width (T is per
+rest width), with kappa the curvature of the deformed weft and warp grid lines at the node along
+the body normal (discrete: the circle through the node and its two neighbours).
 
 Landmarks: girth lines (the parametric torso's bust, underbust, waist and hip from its size
 chart, or heights given in the case) -> the grid row nearest each height: mean, max and min
@@ -148,14 +149,19 @@ def node_fields(
     tension_weft, tension_warp = stress_weft * thickness, stress_warp * thickness
     kappa_weft = line_curvature(x, normal, grid, "weft")
     kappa_warp = line_curvature(x, normal, grid, "warp")
-    p_laplace = tension_weft * kappa_weft + tension_warp * np.nan_to_num(kappa_warp)
+    # Laplace needs force per unit DEFORMED width: the rest width of a weft line's strip is
+    # stretched by 1 + the warp strain (and a warp line's by 1 + the weft strain)
+    strain_weft, strain_warp = node_average(grid, strain, WEFT), node_average(grid, strain, WARP)
+    p_laplace = tension_weft * kappa_weft / (1 + strain_warp) + tension_warp * np.nan_to_num(
+        kappa_warp
+    ) / (1 + strain_weft)
     return Fields(
         spring_strain=strain,
         spring_stress=stress,
         stress_weft=stress_weft,
         stress_warp=stress_warp,
-        strain_weft=node_average(grid, strain, WEFT),
-        strain_warp=node_average(grid, strain, WARP),
+        strain_weft=strain_weft,
+        strain_warp=strain_warp,
         tension_weft=tension_weft,
         tension_warp=tension_warp,
         pressure=pressure,

@@ -79,6 +79,28 @@ def test_elliptic_laplace_diagnostic(tmp_path):
     assert rows and rows[0]["landmark"] == "middle"  # no chart, no extrema on a cylinder
 
 
+def test_laplace_diagnostic_uses_tension_per_deformed_width(tmp_path):
+    """A cylinder with the warp also stretched (lengthwise_reduction 0.1): p_laplace equals the
+    pressure within 0.1 % (it was 1.1111 x the pressure with the tension per rest width)."""
+    from cloth.predeform import predeform
+
+    case = {
+        "material": "powernet",
+        "body": {"cylinder": {"radius": 0.1, "bottom": 0.0, "top": 0.5}},
+        "garment": {
+            "bottom": 0.1, "top": 0.4, "reduction": 0.2, "grid": [64, 6], "edges": "sliding",
+            "lengthwise_reduction": 0.1,
+        },
+    }  # fmt: skip
+    state = predeform(case)
+    ds, _ = aggregate(relaxed_file(tmp_path, state, solve(state)))
+    inner = slice(1, -1)
+    assert float(ds["strain_warp"].values[inner].mean()) > 0.05  # the warp is stretched
+    np.testing.assert_allclose(
+        ds["p_laplace"].values[inner], ds["pressure"].values[inner], rtol=1e-3
+    )
+
+
 def test_flat_patch_node_stress_is_the_lab_curve(fabric):
     grid = rectangle(7, 5, 0.3, 0.2, fabric)
     u, v = grid.rest_uv.T
