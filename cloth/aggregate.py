@@ -8,8 +8,9 @@ and tensions T = sigma x thickness (N m-1).
 Pressure: the body's normal reaction on each node over the node's deformed tributary area
 (`cloth.pressure`). Generalised Laplace diagnostic: p_laplace = T_weft kappa_weft / (1 +
 eps_warp) + T_warp kappa_warp / (1 + eps_weft), the tensions per unit deformed width (T is per
-rest width), with kappa the curvature of the deformed weft and warp grid lines at the node along
-the body normal (discrete: the circle through the node and its two neighbours).
+rest width), with kappa the normal curvature of the deformed weft and warp grid lines at the node
+(the curvature vector of the circle through the node and its two neighbours, along the body's
+inward normal).
 
 Landmarks: girth lines (the parametric torso's bust, underbust, waist and hip from its size
 chart, or heights given in the case) -> the grid row nearest each height: mean, max and min
@@ -29,6 +30,7 @@ from numpy.typing import NDArray
 from cloth.grid import WARP, WEFT, Grid
 from cloth.mechanics import SpringState, spring_state
 from cloth.pressure import contact_reaction, node_area
+from cloth.state import SLIDING
 
 MMHG = 133.322  # Pa
 #: RAL-GZ 387 medical compression classes, mmHg (class: lower, upper).
@@ -68,8 +70,9 @@ def node_average(grid: Grid, values: NDArray[np.float64], family: int) -> NDArra
 def line_curvature(
     x: NDArray[np.float64], normal: NDArray[np.float64], grid: Grid, along: str
 ) -> NDArray[np.float64]:
-    """(N,) signed curvature (m-1, positive when the line bends around the body) of the weft
-    ('weft': around) or warp ('warp': up) grid line through each node; NaN at open ends."""
+    """(N,) normal curvature (m-1, positive when the line bends around the body) of the weft
+    ('weft': around) or warp ('warp': up) grid line through each node: its curvature vector's
+    component along the inward body normal; NaN at open ends."""
     pts = x.reshape(grid.m, grid.n, 3)
     nrm = normal.reshape(grid.m, grid.n, 3)
     axis = 1 if along == "weft" else 0
@@ -89,8 +92,12 @@ def line_curvature(
     with np.errstate(invalid="ignore", divide="ignore"):
         kappa = 2.0 * cross / denom  # circle through three points
     bend = a + b  # points towards the centre of curvature
-    sign = -np.sign(np.einsum("ijk,ijk->ij", bend, nrm))  # towards the body = positive
-    out = np.where(valid, kappa * sign, np.nan)
+    length = np.linalg.norm(bend, axis=2)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        # the normal curvature: the curvature vector's component into the body (on a cone the
+        # hoop circle's 1/r times the normal's radial share cos(alpha))
+        into = np.where(length > 0, -np.einsum("ijk,ijk->ij", bend, nrm) / length, 0.0)
+    out = np.where(valid, kappa * into, np.nan)
     return out.ravel()
 
 
@@ -110,6 +117,7 @@ class Fields:
     p_laplace: NDArray[np.float64]
     area: NDArray[np.float64]
     reaction: NDArray[np.float64]
+    edge_support: NDArray[np.float64]
     contact: NDArray[np.int8]
     total_force: NDArray[np.float64]
     total_moment: NDArray[np.float64]
@@ -126,6 +134,7 @@ def node_fields(
     unbalanced: NDArray[np.float64] | None = None,
     held: NDArray[np.bool_] | None = None,
     normal: NDArray[np.float64] | None = None,
+    constraint: NDArray[np.int8] | None = None,
 ) -> Fields:
     """All per-node and per-spring results at positions x ((N, 3), m).
 
@@ -141,6 +150,12 @@ def node_fields(
         forces = unbalanced = np.zeros((count, 3))
         normal = np.zeros((count, 3))
     reaction = contact_reaction(forces, unbalanced, held)
+    # a sliding edge node is balanced by the body (lambda n) and its edge's support (mu e_z):
+    # R + lambda n + mu e_z = 0, so the support's share is mu = -(R_z + lambda n_z), N
+    edge_support = np.zeros(count)
+    if constraint is not None:
+        sliding = constraint == SLIDING
+        edge_support[sliding] = -(forces[sliding, 2] + reaction[sliding, 2])
     area = node_area(x, grid)
     magnitude = np.linalg.norm(reaction, axis=1)
     pressure = np.where(held, magnitude / area, 0.0)
@@ -168,6 +183,7 @@ def node_fields(
         p_laplace=np.where(held, p_laplace, np.nan),
         area=area,
         reaction=reaction,
+        edge_support=edge_support,
         contact=held.astype(np.int8),
         total_force=reaction.sum(axis=0) * -1.0,  # the fabric's force on the body
         total_moment=-np.cross(x, reaction).sum(axis=0),
@@ -279,7 +295,7 @@ def aggregate(relaxed_path, base_dir="."):
     ev = Problem(state.grid, body, state.constraint).evaluate(state.x)
     fields = node_fields(
         state.grid, state.x, ev.springs, state.fabric.thickness, ev.forces, ev.unbalanced,
-        ev.on_body, ev.normal,
+        ev.on_body, ev.normal, state.constraint,
     )  # fmt: skip
     heights = dict(ref.get("landmarks", {}))
     heights.update(state.case.get("landmarks", {}))

@@ -3,8 +3,8 @@
 Node fields (dims ``row``, ``col``): positions ``x``, ``y``, ``z`` (m), rest coordinates ``u``,
 ``v`` (m), ``stress_weft``, ``stress_warp`` (Pa), ``strain_weft``, ``strain_warp`` (1),
 ``tension_weft``, ``tension_warp`` (N m-1), ``pressure`` (Pa), ``pressure_mmHg``,
-``p_laplace`` and ``p_laplace_difference`` (Pa), ``node_area`` (m2), ``contact`` and
-``constraint`` (flags). Spring fields (dim ``spring``): ``spring_stress`` (Pa),
+``p_laplace`` and ``p_laplace_difference`` (Pa), ``node_area`` (m2), ``edge_support_force``
+(N), ``contact`` and ``constraint`` (flags). Spring fields (dim ``spring``): ``spring_stress`` (Pa),
 ``spring_strain`` (1), ``spring_family`` (flags), ``spring_node_a``/``_b``. Per iteration: the
 solver history. Per landmark (dim ``landmark``): ``landmark_height`` (m), ``pressure_mean``,
 ``pressure_max``, ``pressure_min`` (Pa), ``tension_mean`` (N m-1). Totals: ``total_force`` and
@@ -75,6 +75,12 @@ def result_dataset(
             fields.p_laplace - fields.pressure, "Pa", "p_laplace minus pressure", grid
         ),
         "node_area": _node(fields.area, "m2", "deformed tributary area of the node", grid),
+        "edge_support_force": _node(
+            fields.edge_support,
+            "N",
+            "vertical force of the edge support on a sliding edge node (0 elsewhere)",
+            grid,
+        ),
         "contact": _node(
             fields.contact,
             "1",

@@ -190,3 +190,68 @@ def test_landmarks_of_a_scan_come_from_the_girth_profile(tmp_path):
     minima = [z for name, z in marks.items() if name.startswith("girth_min")]
     assert len(minima) == 1
     assert minima[0] == pytest.approx(chart.height["waist"], abs=0.011)  # within a row (1 cm)
+
+
+@pytest.mark.parametrize("lengthwise", [0.0, 0.1])
+def test_cone_edge_rows_carry_the_body_share_only(tmp_path, lengthwise):
+    """A cone (radius 0.15 to 0.07 m over 0.3 m) with sliding edges. Interior contact nodes on a
+    straight meridian: pressure = hoop Laplace, T per deformed width x cos(alpha) / r, within
+    0.5 %; every interior contact node: p_laplace within 1 %. Edge rows on the cone: pressure x
+    area = lambda of R = -lambda n - mu e_z, solved here from the spring forces (least squares on
+    n and e_z), and edge_support_force = mu; -R . n would differ by mu n_z. With the warp also
+    stretched (lengthwise 0.1) it pulls the upper edge 2 mm off the cone: no pressure there."""
+    from cloth.bodies import Cone
+    from cloth.grid import WEFT
+    from cloth.predeform import predeform
+
+    body = {"cone": {"radius_bottom": 0.15, "radius_top": 0.07, "bottom": 0.0, "top": 0.3}}
+    case = {
+        "material": "powernet", "body": body,
+        "garment": {"bottom": 0.05, "top": 0.25, "reduction": 0.15, "grid": [64, 8],
+                    "edges": "sliding", "lengthwise_reduction": lengthwise},
+    }  # fmt: skip
+    state = predeform(case)
+    result = solve(state, iterations=100)
+    assert result.converged
+    ds, _ = aggregate(relaxed_file(tmp_path, state, result))
+    grid, x = state.grid, result.final.x
+    cone = Cone(0.15, 0.07, 0.0, 0.3)
+    _, _, normal = cone.query(x)
+    # the resultant spring force on every node, from the springs one by one
+    springs = result.final.springs
+    force = np.zeros_like(x)
+    spring_force = springs.stress * grid.area  # S_k, N, tension positive
+    pull = spring_force[:, None] * springs.direction  # on node a, towards b
+    np.add.at(force, grid.ends[:, 0], pull)
+    np.add.at(force, grid.ends[:, 1], -pull)
+    pressure = ds["pressure"].values.ravel()
+    area = ds["node_area"].values.ravel()
+    n, m = grid.n, grid.m
+    inner = np.arange(n, (m - 1) * n)
+    # hoop tension per deformed width: weft spring force / (rest width x (1 + warp strain))
+    weft = grid.family_slices[WEFT]
+    hoop = (np.abs(spring_force[weft]) / (grid.area[weft] / THICKNESS)).reshape(m, n)
+    strain_warp = ds["strain_warp"].values
+    radius = np.hypot(x[:, 0], x[:, 1]).reshape(m, n)
+    cos_alpha = 0.3 / np.hypot(0.08, 0.3)  # the normal's radial share
+    laplace = (hoop / (1 + strain_warp) * cos_alpha / radius).ravel()
+    contact = ds["contact"].values.astype(bool)
+    # where a node's warp neighbours lie on the cone too, its meridian is straight: hoop only
+    straight = np.zeros((m, n), bool)
+    straight[1:-1] = contact[1:-1] & contact[:-2] & contact[2:]
+    assert straight.sum() >= 4 * n
+    np.testing.assert_allclose(pressure[straight.ravel()], laplace[straight.ravel()], rtol=5e-3)
+    held = contact.ravel()[inner]  # next to a lifted edge the warp bends: p_laplace has it
+    np.testing.assert_allclose(
+        ds["p_laplace"].values.ravel()[inner][held], pressure[inner][held], rtol=1e-2
+    )
+    for k in np.concatenate([np.arange(n), np.arange((m - 1) * n, m * n)]):
+        basis = np.column_stack([normal[k], [0.0, 0.0, 1.0]])
+        (lam, mu), *_ = np.linalg.lstsq(basis, -force[k], rcond=None)
+        if not contact.ravel()[k]:  # an edge the warp pulls off the cone: no pressure, mu = -R_z
+            assert pressure[k] == 0 and lam <= 1e-9 * np.linalg.norm(force[k])
+            assert ds["edge_support_force"].values.ravel()[k] == pytest.approx(-force[k, 2])
+            continue
+        assert pressure[k] * area[k] == pytest.approx(lam, rel=1e-6)
+        assert ds["edge_support_force"].values.ravel()[k] == pytest.approx(mu, rel=1e-6)
+        assert abs(-force[k] @ normal[k] - lam) > 1e-3 * lam  # -R . n is not the body's share
