@@ -207,7 +207,9 @@ class Fabric:
     areal_density : float, kg m-2
         Mass per area (NaN when unknown); not needed for statics.
     bias : StressStrainCurve, optional
-        Curve at 45 degrees, used by optional shear springs when given.
+        Curve at 45 degrees, stored with the material and plotted; the simulation does not use
+        it: the optional shear springs are linear with the garment's ``shear_modulus``
+        (`cloth.grid.build_grid`).
     provenance : dict of str to str
         Where the numbers came from (files, sha256, fit settings).
     """
