@@ -21,6 +21,7 @@ knitted garments they fall in, and the mean hoop tension.
 from __future__ import annotations
 
 import json
+import logging
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -31,6 +32,8 @@ from cloth.grid import WARP, WEFT, Grid
 from cloth.mechanics import SpringState, spring_state
 from cloth.pressure import contact_reaction, node_area
 from cloth.state import SLIDING
+
+log = logging.getLogger(__name__)
 
 MMHG = 133.322  # Pa
 #: RAL-GZ 387 medical compression classes, mmHg (class: lower, upper).
@@ -142,7 +145,7 @@ def node_fields(
     evaluation (`cloth.solvers.problem.Evaluation`); without them (a fabric off any body) the
     pressure is zero.
     """
-    stress = np.abs(springs.stress)  # sigma_k = |S_k| / A_k
+    stress = springs.stress  # sigma_k = S_k / A_k, signed: compression (slack fabric) < 0
     strain = springs.strain
     count = grid.n_nodes
     if held is None:
@@ -305,7 +308,7 @@ def aggregate(relaxed_path, base_dir="."):
     result = result_dataset(state, fields, marks, ds)
     if "x_initial" in ds:
         start = np.stack([ds[f"{a}_initial"].values.ravel() for a in "xyz"], axis=1)
-        before = node_average(state.grid, np.abs(spring_state(start, state.grid).stress), WEFT)
+        before = node_average(state.grid, spring_state(start, state.grid).stress, WEFT)
         result = result.assign(
             {
                 f"{a}_initial": ds[f"{a}_initial"].variable for a in "xyz"
@@ -317,5 +320,45 @@ def aggregate(relaxed_path, base_dir="."):
                 )
             }
         )  # fmt: skip
+    result = result.assign(lab_range_variables(state, ev.springs.strain))
     name = Path(relaxed_path).parent.name
     return result, summary_rows(result, name)
+
+
+def lab_range_variables(state, strain: NDArray[np.float64]) -> dict:
+    """Where the springs' strain passes the largest strain of the lab curve they follow (its last
+    knot; beyond it the curve goes on with its last slope, extrapolated): a warning naming the
+    fabric direction and the strains, a node flag ``beyond_lab_range`` (1 weft, 2 warp, 3 both)
+    and per grid family the largest strain and the lab's, as 0-d variables."""
+    import xarray as xr
+
+    grid = state.grid
+    flag = np.zeros(grid.n_nodes, np.int8)
+    out = {}
+    for family, label, bit in ((WEFT, "weft", 1), (WARP, "warp", 2)):
+        sl = grid.family_slices[family]
+        limit = float(grid.curves[family].knot_strain[-1])
+        beyond = strain[sl] > limit
+        largest = float(strain[sl].max()) if strain[sl].size else 0.0
+        if np.any(beyond):
+            ends = grid.ends[sl][beyond]
+            flag[ends.ravel()] |= bit
+            direction = label if state.around == "weft" else ("warp" if label == "weft" else "weft")
+            log.warning(
+                "%s springs (the fabric's %s) strained up to %.4g, beyond the lab curve's last "
+                "strain %.4g at %d springs: the curve is extrapolated there with its last slope",
+                label, direction, largest, limit, int(beyond.sum()),
+            )  # fmt: skip
+        out[f"max_strain_{label}"] = xr.Variable(
+            (), largest, {"units": "1", "long_name": f"largest {label} spring strain"}
+        )
+        out[f"lab_max_strain_{label}"] = xr.Variable(
+            (), limit, {"units": "1", "long_name": f"last strain of the {label} lab curve"}
+        )
+    out["beyond_lab_range"] = xr.Variable(
+        ("row", "col"), flag.reshape(grid.m, grid.n),
+        {"units": "1", "long_name": "node with a spring strained beyond the lab curve",
+         "flag_values": np.array([0, 1, 2, 3], np.int8),
+         "flag_meanings": "within weft_beyond warp_beyond both_beyond"},
+    )  # fmt: skip
+    return out

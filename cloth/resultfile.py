@@ -4,7 +4,8 @@ Node fields (dims ``row``, ``col``): positions ``x``, ``y``, ``z`` (m), rest coo
 ``v`` (m), ``stress_weft``, ``stress_warp`` (Pa), ``strain_weft``, ``strain_warp`` (1),
 ``tension_weft``, ``tension_warp`` (N m-1), ``pressure`` (Pa), ``pressure_mmHg``,
 ``p_laplace`` and ``p_laplace_difference`` (Pa), ``node_area`` (m2), ``edge_support_force``
-(N), ``contact`` and ``constraint`` (flags). Spring fields (dim ``spring``): ``spring_stress`` (Pa),
+(N), ``contact`` and ``constraint`` (flags), ``beyond_lab_range`` (flags). Spring fields (dim
+``spring``): ``spring_stress`` (Pa, signed), ``spring_slack`` (flags),
 ``spring_strain`` (1), ``spring_family`` (flags), ``spring_node_a``/``_b``. Per iteration: the
 solver history. Per landmark (dim ``landmark``): ``landmark_height`` (m), ``pressure_mean``,
 ``pressure_max``, ``pressure_min`` (Pa), ``tension_mean`` (N m-1). Totals: ``total_force`` and
@@ -29,6 +30,10 @@ from cloth.materialfile import fabric_variables
 from cloth.state import CONSTRAINT_MEANINGS, CONTACT_MEANINGS, State
 
 KIND = "result"
+
+
+#: A spring strained less than this (1) is slack (rounding leaves +-1e-16 on unstrained ones).
+SLACK_STRAIN = 1e-9
 
 
 def git_revision() -> str:
@@ -98,7 +103,19 @@ def result_dataset(
             flag_meanings=CONSTRAINT_MEANINGS,
         ),
         "spring_stress": xr.Variable(
-            "spring", fields.spring_stress, {"units": "Pa", "long_name": "spring stress |S|/A"}
+            "spring",
+            fields.spring_stress,
+            {"units": "Pa", "long_name": "spring stress S/A (negative: compressed)"},
+        ),
+        "spring_slack": xr.Variable(
+            "spring",
+            (fields.spring_strain <= SLACK_STRAIN).astype(np.int8),
+            {
+                "units": "1",
+                "long_name": "spring slack or compressed (strain <= 1e-9)",
+                "flag_values": np.array([0, 1], np.int8),
+                "flag_meanings": "stretched slack_or_compressed",
+            },
         ),
         "spring_strain": xr.Variable(
             "spring", fields.spring_strain, {"units": "1", "long_name": "spring strain"}
@@ -171,7 +188,16 @@ def summary_rows(ds: xr.Dataset, case_name: str) -> list[dict[str, object]]:
         )  # fmt: skip
         record = mark.record()
         record.pop("row")
-        rows.append({"case": case_name, **record, "converged": int(ds.attrs.get("converged", 0))})
+        extra = {
+            name: float(ds[name])
+            for name in ("max_strain_weft", "lab_max_strain_weft", "max_strain_warp",
+                         "lab_max_strain_warp")
+            if name in ds
+        }  # fmt: skip
+        rows.append(
+            {"case": case_name, **record, **extra,
+             "converged": int(ds.attrs.get("converged", 0))}
+        )  # fmt: skip
     return rows
 
 

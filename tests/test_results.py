@@ -101,15 +101,36 @@ def test_laplace_diagnostic_uses_tension_per_deformed_width(tmp_path):
     )
 
 
-def test_flat_patch_node_stress_is_the_lab_curve(fabric):
+def test_flat_patch_node_stress_is_the_lab_curve_with_its_sign(fabric):
+    """Stretched 35 % along the weft and compressed 10 % along the warp: node stresses are the
+    lab curve's, the warp's negative (compression: the curve's small compression modulus)."""
     grid = rectangle(7, 5, 0.3, 0.2, fabric)
     u, v = grid.rest_uv.T
-    x = np.stack([1.35 * u, 1.2 * v, np.zeros_like(u)], axis=1)
+    x = np.stack([1.35 * u, 0.9 * v, np.zeros_like(u)], axis=1)
     fields = node_fields(grid, x, spring_state(x, grid), fabric.thickness)
     np.testing.assert_allclose(fields.stress_weft, float(fabric.weft.stress(0.35)), rtol=1e-12)
-    np.testing.assert_allclose(fields.stress_warp, float(fabric.warp.stress(0.2)), rtol=1e-12)
-    np.testing.assert_allclose(fields.tension_weft, fields.stress_weft * fabric.thickness)
+    np.testing.assert_allclose(fields.stress_warp, float(fabric.warp.stress(-0.1)), rtol=1e-12)
+    assert np.all(fields.stress_warp < 0) and np.all(fields.stress_weft > 0)
     assert np.all(fields.pressure == 0)
+
+
+def test_strain_beyond_the_lab_range_is_reported(tmp_path, caplog):
+    """A 50 % reduction strains the weft to 1.0, past the power net's last measured strain
+    (0.8): a warning names the direction and the strains, every node is flagged, summary rows
+    carry the strains; the unstrained warp springs are flagged slack."""
+    state = tube({"cylinder": {"radius": 0.1, "bottom": 0.0, "top": 0.5}}, 0.5)
+    path = relaxed_file(tmp_path, state, solve(state))
+    with caplog.at_level("WARNING", logger="cloth.aggregate"):
+        ds, rows = aggregate(path)
+    assert "weft springs (the fabric's weft) strained up to 0.99" in caplog.text
+    assert "beyond the lab curve's last strain 0.8" in caplog.text
+    assert np.all(ds["beyond_lab_range"].values == 1)
+    assert float(ds["max_strain_weft"]) == pytest.approx(1.0, abs=5e-3)
+    assert float(ds["lab_max_strain_weft"]) == pytest.approx(0.8)
+    assert rows[0]["max_strain_weft"] == pytest.approx(float(ds["max_strain_weft"]))
+    family = ds["spring_family"].values
+    assert np.all(ds["spring_slack"].values[family == 1] == 1)
+    assert np.all(ds["spring_slack"].values[family == 0] == 0)
 
 
 def test_classes():
