@@ -29,7 +29,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from cloth.bodies import Body, body_from_config, hull_polygon, loop_around, polygon_perimeter
-from cloth.bodies.mesh import loop_area
+from cloth.bodies.sections import loop_area
 from cloth.config import validate_case
 from cloth.errors import InputError
 from cloth.grid import build_grid

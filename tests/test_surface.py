@@ -7,7 +7,8 @@ import pytest
 import trimesh
 
 from cloth.bodies.mesh import MeshBody
-from cloth.bodies.surface import FitOptions, SmoothMeshBody, SplineField, fit_surface
+from cloth.bodies.spline import SplineField
+from cloth.bodies.surface import FitOptions, SmoothMeshBody, fit_surface
 from cloth.bodies.surfacefile import load_or_fit, read_surface
 from cloth.cli import main
 from tests.conftest import capped_cylinder, write_obj
