@@ -340,10 +340,14 @@ def lab_range_variables(state, strain: NDArray[np.float64]) -> dict:
         limit = float(grid.curves[family].knot_strain[-1])
         beyond = strain[sl] > limit
         largest = float(strain[sl].max()) if strain[sl].size else 0.0
+        direction = label if state.around == "weft" else ("warp" if label == "weft" else "weft")
+        log.info(
+            "%s springs (the fabric's %s): largest strain %.4g, lab curve measured to %.4g",
+            label, direction, largest, limit,
+        )  # fmt: skip
         if np.any(beyond):
             ends = grid.ends[sl][beyond]
             flag[ends.ravel()] |= bit
-            direction = label if state.around == "weft" else ("warp" if label == "weft" else "weft")
             log.warning(
                 "%s springs (the fabric's %s) strained up to %.4g, beyond the lab curve's last "
                 "strain %.4g at %d springs: the curve is extrapolated there with its last slope",
