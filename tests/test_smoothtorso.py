@@ -88,7 +88,7 @@ def test_sections_have_the_chart_girths_and_the_mesh_lies_on_the_surface(torso):
         for count in (2048, 4096):
             angle = 2 * np.pi * np.arange(count) / count
             ray = np.column_stack([np.cos(angle), np.sin(angle), np.full(count, z)])
-            ring = torso.start(ray)
+            ring = torso.locate(ray)[0]
             assert np.abs(torso.implicit(ring)[0]).max() <= 1e-12
             perimeters.append(polygon_perimeter(ring[:, :2]))
         measured = (4 * perimeters[1] - perimeters[0]) / 3

@@ -1,8 +1,9 @@
 """Bodies bounded by a smooth implicit surface G(q) = 0: exact closest points and curvature.
 
-A subclass gives G with its gradient and Hessian (`ImplicitBody.implicit`), a first guess of
-the closest point (`ImplicitBody.start`) and which points are outside (`ImplicitBody.outside`);
-this base turns them into the `cloth.bodies.base.Body` queries:
+A subclass gives G with its gradient and Hessian (`ImplicitBody.implicit`), and for a set of
+points a first guess of their closest points and which of them are outside
+(`ImplicitBody.locate`, one look at the points for both); this base turns them into the
+`cloth.bodies.base.Body` queries:
 
 * closest points by Newton on the stationarity conditions q - p + mu grad G(q) = 0, G(q) = 0
   (a 4 x 4 system per point; quadratic, exact to rounding near the surface);
@@ -51,28 +52,29 @@ class ImplicitBody:
         """G ((P,)), its gradient ((P, 3)) and Hessian ((P, 3, 3)) at points q ((P, 3), m)."""
         raise NotImplementedError
 
-    def start(self, p: NDArray) -> NDArray:
-        """A surface point near the closest one to each of p ((P, 3), m): Newton's start."""
-        raise NotImplementedError
-
-    def outside(self, p: NDArray) -> NDArray[np.bool_]:
-        """Which of the points p ((P, 3), m) are outside the body (on the surface counts)."""
+    def locate(self, p: NDArray) -> tuple[NDArray, NDArray[np.bool_]]:
+        """For points p ((P, 3), m): a surface point near the closest one to each (Newton's
+        start, (P, 3), m) and which points are outside the body ((P,), on the surface counts),
+        from one look at p."""
         raise NotImplementedError
 
     def fallback(self, p: NDArray, q: NDArray) -> NDArray:
         """Surface points ((P, 3), m) for points p whose Newton iteration (last iterate q) did
         not settle: far from the body, where the stationary point need not be unique. Default:
         the nearer of the start point and the start from the last iterate."""
-        guess, first = self.start(q), self.start(p)
+        guess, first = self.locate(q)[0], self.locate(p)[0]
         nearer = np.linalg.norm(guess - p, axis=1) <= np.linalg.norm(first - p, axis=1)
         return np.where(nearer[:, None], guess, first)
 
     def closest(self, points: ArrayLike) -> NDArray[np.float64]:
         """Closest points ((P, 3), m) on the surface: Newton on q - p + mu grad G(q) = 0,
-        G(q) = 0 from `start` (exact to rounding near the surface; `fallback` where it does
-        not settle)."""
+        G(q) = 0 from the start of `locate` (exact to rounding near the surface; `fallback`
+        where it does not settle)."""
         p = as_points(points)
-        q = self.start(p)
+        return self._newton(p, self.locate(p)[0])
+
+    def _newton(self, p: NDArray, q: NDArray) -> NDArray:
+        """The closest-point Newton iteration of `closest` from start points q (updated)."""
         if len(p) == 0:
             return q
         _, g, _ = self.implicit(q)
@@ -107,12 +109,13 @@ class ImplicitBody:
 
     def query(self, points: ArrayLike):
         p = as_points(points)
-        q = self.closest(p)
+        start, outside = self.locate(p)
+        q = self._newton(p, start)
         _, g, _ = self.implicit(q)
         with np.errstate(invalid="ignore", divide="ignore"):  # NaN points (a folded trial)
             normal = g / np.linalg.norm(g, axis=1, keepdims=True)
         distance = np.linalg.norm(p - q, axis=1)
-        return np.where(self.outside(p), distance, -distance), q, normal
+        return np.where(outside, distance, -distance), q, normal
 
     def hessian(self, surface_points: ArrayLike) -> NDArray[np.float64]:
         """Hessian of the signed distance at surface points ((P, 3, 3), 1/m): P H_G P / |grad G|

@@ -358,19 +358,25 @@ class SmoothMeshBody(ImplicitBody):
         value[inside] = self.fit.field.evaluate(p[inside], order=0)
         return np.abs(value) < self.fit.trusted, value
 
-    def start(self, p: NDArray) -> NDArray:
-        """Two projections along the gradient, q <- q - phi grad phi / |grad phi|^2, from p in
-        the trusted band, else (or where they do not land on the surface) from p's closest
-        point on the mesh, which lies within the fit's deviation of the surface."""
-        trusted, _ = self._trusted(p)
+    def locate(self, p: NDArray) -> tuple[NDArray, NDArray[np.bool_]]:
+        """Start points: two projections along the gradient, q <- q - phi grad phi /
+        |grad phi|^2, from p in the trusted band, else (or where they do not land on the
+        surface) from p's closest point on the mesh, which lies within the fit's deviation of
+        the surface. Outside: phi(p) >= 0 in the trusted band, else the winding number <= 1/2."""
+        trusted, value = self._trusted(p)
         q = self._project(p, trusted)
-        value = np.full(len(q), np.inf)
-        inside = self.fit.field.within(q)
-        value[inside] = self.fit.field.evaluate(q[inside], order=0)
-        missed = trusted & ~(np.abs(value) < 1e-3 * self.fit.trusted)
+        landed = np.abs(self._trusted(q)[1]) < 1e-3 * self.fit.trusted
+        missed = trusted & ~landed
         if np.any(missed):
             q[missed] = self._project(p[missed], np.zeros(np.count_nonzero(missed), bool))
-        return q
+        outside = value >= 0.0
+        if not np.all(trusted):
+            import igl
+
+            far = ~trusted
+            winding = igl.fast_winding_number(self.mesh.vertices, self.mesh.faces, p[far])
+            outside[far] = winding <= 0.5
+        return q, outside
 
     def _project(self, p: NDArray, trusted: NDArray[np.bool_]) -> NDArray:
         q = p.copy()
@@ -381,14 +387,3 @@ class SmoothMeshBody(ImplicitBody):
             squared = np.einsum("ij,ij->i", gradient, gradient)
             q -= (value / np.where(squared > 0, squared, np.inf))[:, None] * gradient
         return q
-
-    def outside(self, p: NDArray) -> NDArray[np.bool_]:
-        trusted, value = self._trusted(p)
-        out = value >= 0.0
-        if not np.all(trusted):
-            import igl
-
-            far = ~trusted
-            winding = igl.fast_winding_number(self.mesh.vertices, self.mesh.faces, p[far])
-            out[far] = winding <= 0.5
-        return out

@@ -118,17 +118,20 @@ def load_or_fit(
     path: str | Path | None = None,
     progress: bool | None = None,
 ) -> tuple[SurfaceFit, Path]:
-    """The fit of ``mesh`` with ``options`` and the file that keeps it (`smooth_body`)."""
+    """The fit of ``mesh`` with ``options`` and the file that keeps it (`smooth_body`): read
+    from ``path`` or the cache, whichever holds it, else fitted into ``path`` (or the cache
+    when ``path`` holds another mesh's fit, or is not given)."""
     key = mesh_key(mesh, options)
-    target = Path(path) if path is not None else cache_dir() / f"{key[:32]}.nc"
-    if target.is_file():
-        fit = read_surface(target)
-        if fit.key == key:
-            log.info("smooth surface from %s", target)
-            return fit, target
-        log.warning("%s holds the surface of another mesh or other options; fitting anew", target)
-        if path is not None:
-            target = cache_dir() / f"{key[:32]}.nc"
+    cached = cache_dir() / f"{key[:32]}.nc"
+    places = [Path(path), cached] if path is not None else [cached]
+    for place in places:
+        if place.is_file():
+            fit = read_surface(place)
+            if fit.key == key:
+                log.info("smooth surface from %s", place)
+                return fit, place
+            log.warning("%s holds the surface of another mesh or other options", place)
+    target = places[0] if not places[0].is_file() else cached  # never overwrite another's fit
     fit = fit_surface(mesh, options, progress)
     write_surface(fit, target, mesh.source)
     log.info("wrote %s", target)

@@ -273,18 +273,16 @@ class SmoothTorso(ImplicitBody, AnalyticBody):
         b = np.where(y >= 0, bf, bb)
         return (np.abs(x / a) ** EXPONENT + np.abs(y / b) ** EXPONENT) ** (1 / EXPONENT), a
 
-    def start(self, p: NDArray) -> NDArray:
-        """The surface point on the horizontal ray from the axis through p (a first guess)."""
+    def locate(self, p: NDArray) -> tuple[NDArray, NDArray[np.bool_]]:
+        """The surface point on the horizontal ray from the axis through p (a first guess), and
+        whether p lies outside (its level is at least 1)."""
         level, a = self._level(p)
         x, y = p[:, 0], p[:, 1]
         on_axis = level < 1e-12
         t = 1.0 / np.where(on_axis, 1.0, level)
         q = np.column_stack([x * t, y * t, p[:, 2]])
         q[on_axis, 0], q[on_axis, 1] = a[on_axis], 0.0
-        return q
-
-    def outside(self, p: NDArray) -> NDArray[np.bool_]:
-        return self._level(p)[0] >= 1.0
+        return q, level >= 1.0
 
     # -- the Body protocol (queries from `ImplicitBody`) -------------------------------------
 
