@@ -114,6 +114,22 @@ def test_torso_matches_chart_and_is_watertight(size):
         assert hull == pytest.approx(chart.girth[landmark], rel=5e-3)
 
 
+@pytest.mark.parametrize(("around", "rings"), [(32, 30), (64, 60), (128, 120)])
+def test_torso_mesh_is_mirror_symmetric_like_the_torso(around, rings):
+    """The torso is left-right symmetric, and so is its mesh: the mirrored mesh (x -> -x) has
+    the same triangles. Splitting every quad along the same diagonal made the mesh chiral (its
+    creases ran in helices), and a frictionless garment on the coarse mesh turned about the body
+    without end (docs/solvers.md)."""
+    vertices, faces = torso_mesh(chart_size("M"), around, rings)
+    mirrored = vertices * np.array([-1.0, 1.0, 1.0])
+
+    def triangles(points):
+        corners = np.round(points[faces], 9).reshape(len(faces), 3, 3)
+        return {tuple(sorted(map(tuple, triangle))) for triangle in corners}
+
+    assert triangles(mirrored) == triangles(vertices)
+
+
 def test_units_and_up_axis_give_the_same_body(tmp_path):
     vertices, faces = torso_mesh(chart_size("M"), around=64, rings=40)
 

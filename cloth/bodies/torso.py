@@ -152,7 +152,12 @@ def _perimeter(xy: NDArray) -> float:
 def torso_mesh(
     chart: SizeChart, around: int = 128, rings: int = 120
 ) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
-    """Vertices ((V, 3), m, z up, front towards +y) and outward faces ((F, 3)) of the torso."""
+    """Vertices ((V, 3), m, z up, front towards +y) and outward faces ((F, 3)) of the torso.
+
+    ``around`` points on each of about ``rings`` rings (plus the landmark heights), quads split
+    in a checkerboard of diagonals: with ``around`` a multiple of 4 the mesh is left-right
+    symmetric, as the torso is.
+    """
     if around < 8 or rings < 8:
         raise InputError("the torso needs at least 8 points around and 8 rings", field="torso")
     girth, depth, front = _profiles(chart)
@@ -177,7 +182,13 @@ def torso_mesh(
     for r in range(n_rings - 1):
         a, b = r * around + i, r * around + i1
         c, d = (r + 1) * around + i, (r + 1) * around + i1
-        faces += [np.stack([a, b, d], axis=1), np.stack([a, d, c], axis=1)]
+        # quads split along alternate diagonals (a checkerboard): the same diagonal everywhere
+        # makes the creases run in helices, a handedness the torso does not have, and a
+        # frictionless garment on a coarse mesh turned about the body without end
+        other = (r + i) % 2 == 1
+        first = np.where(other[:, None], np.stack([a, b, c], axis=1), np.stack([a, b, d], axis=1))
+        second = np.where(other[:, None], np.stack([b, d, c], axis=1), np.stack([a, d, c], axis=1))
+        faces += [first, second]
     low, high = len(side), len(side) + 1
     faces.append(np.stack([np.full(around, low), i1, i], axis=1))
     last = (n_rings - 1) * around
