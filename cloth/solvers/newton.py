@@ -49,7 +49,7 @@ from numpy.typing import NDArray
 from cloth import contact
 from cloth.bodies import MeshBody
 from cloth.mechanics import stiffness
-from cloth.solvers.common import CONTACT_TOLERANCE, constraint_basis
+from cloth.solvers.common import CONTACT_TOLERANCE
 from cloth.solvers.linear import INDEFINITE, solve
 from cloth.solvers.problem import Evaluation, Problem
 from cloth.state import FIXED, SLIDING
@@ -63,6 +63,10 @@ REGULARISATION = 1e-10
 GAP = 0.01
 #: Direction passes: a released node whose step enters the body is held, and the step redone.
 KEEP_PASSES = 4
+#: Levenberg-Marquardt shifts, x the largest diagonal entry: the first, the growth, the last.
+SHIFT_START = 1e-9
+SHIFT_GROWTH = 100.0
+SHIFT_LIMIT = 1e-1
 
 
 def _block_diagonal(blocks: NDArray[np.float64]) -> sp.csr_matrix:
@@ -150,7 +154,7 @@ def newton_step(problem: Problem, ev: Evaluation, solver: str) -> tuple[Evaluati
     # backend takes indefinite matrices, then the projected one
     tries = (False, True) if solver in INDEFINITE else (True,)
     for _ in range(KEEP_PASSES):
-        projector = constraint_basis(problem.constraint, ev.normal, held)
+        projector, _ = problem.basis(ev.x, ev.normal, held)
         dx, slope = _direction(problem, ev, held, projector, k, solver, tries)
         enter = entering(problem, ev, held, dx)
         if not np.any(enter):
@@ -181,22 +185,52 @@ def _direction(
 ) -> tuple[NDArray[np.float64], float]:
     """The Newton move ((N, 3), m) in the allowed directions (``projector``, (N, 3, 3)) and its
     slope (P R) . dx (J): with the stiffness ``k(project)`` for each of ``tries`` in turn until
-    one is a descent direction (a singular matrix is skipped); else a scaled gradient step.
-    ``held`` nodes get the body's curvature term."""
+    one is a descent direction (a singular matrix is skipped); else with the last matrix
+    shifted by s I (Levenberg-Marquardt), s from twice the most negative curvature met along a
+    refused move, growing ``SHIFT_GROWTH``-fold up to ``SHIFT_LIMIT`` x its largest diagonal
+    entry; else a scaled gradient step. ``held`` nodes get the body's curvature term."""
     free = np.einsum("nij,nj->ni", projector, ev.forces)
     rhs = free.ravel()
+    curvature = 0.0  # the most negative curvature seen along a refused step, N/m
+    matrix = None
     for project in tries:
         matrix = newton_matrix(problem, ev, held, projector, k(project))
-        try:
-            dx = solve(matrix, rhs, solver).reshape(-1, 3)
-        except RuntimeError:  # SuperLU: "factor is exactly singular"
-            continue
-        dx = np.einsum("nij,nj->ni", projector, dx)
-        slope = float(rhs @ dx.ravel())
-        if np.isfinite(slope) and slope > 0:
+        dx, slope = _solve_step(matrix, rhs, projector, solver)
+        if slope > 0:
             return dx, slope
-    dx = free / np.maximum(k(True).diagonal().reshape(-1, 3), 1e-300)
+        if np.all(np.isfinite(dx)) and np.any(dx):
+            step = dx.ravel()
+            curvature = min(curvature, float(step @ (matrix @ step)) / float(step @ step))
+    # a direction of negative curvature (the body's curvature term outweighs the fabric's
+    # stiffness along it): shift the matrix until the move is a descent direction
+    # (Levenberg-Marquardt); the line search then moves down that direction
+    if matrix is not None:
+        scale = float(np.abs(matrix.diagonal()).max() or 1.0)
+        shift = max(-2.0 * curvature, SHIFT_START * scale)
+        identity = sp.identity(matrix.shape[0], format="csr")
+        while shift <= SHIFT_LIMIT * scale:
+            dx, slope = _solve_step(matrix + shift * identity, rhs, projector, solver)
+            if slope > 0:
+                return dx, slope
+            shift *= SHIFT_GROWTH
+    # a scaled gradient step, kept in the allowed directions
+    diagonal = np.maximum(k(True).diagonal().reshape(-1, 3), 1e-300)
+    dx = np.einsum("nij,nj->ni", projector, free / diagonal)
     return dx, float(rhs @ dx.ravel())
+
+
+def _solve_step(
+    matrix: sp.csr_matrix, rhs: NDArray[np.float64], projector: NDArray[np.float64], solver: str
+) -> tuple[NDArray[np.float64], float]:
+    """The move ``matrix^-1 rhs`` in the allowed directions ((N, 3), m) and its slope (J); the
+    slope is NaN where the matrix is singular."""
+    try:
+        dx = solve(matrix, rhs, solver).reshape(-1, 3)
+    except RuntimeError:  # SuperLU: "factor is exactly singular"
+        return np.zeros((len(rhs) // 3, 3)), float("nan")
+    dx = np.einsum("nij,nj->ni", projector, dx)
+    slope = float(rhs @ dx.ravel())
+    return dx, slope if np.isfinite(slope) else float("nan")
 
 
 def _line_search(
@@ -257,5 +291,6 @@ def _mesh_step(
     )
     projector[problem.constraint == FIXED] = 0.0
     correction[problem.constraint == FIXED] = 0.0
+    problem.hold_turning(ev.x, projector)
     dx, slope = _direction(problem, ev, np.zeros(count, bool), projector, k, solver, (True,))
     return _line_search(problem, ev, dx + correction, slope)
