@@ -295,7 +295,7 @@ def aggregate(relaxed_path, base_dir="."):
 
     state, ds = read_state(relaxed_path, "relaxed")
     body, ref = body_from_config(state.case["body"], base_dir)
-    ev = Problem(state.grid, body, state.constraint).evaluate(state.x)
+    ev = Problem.of(state, body).evaluate(state.x)
     fields = node_fields(
         state.grid, state.x, ev.springs, state.fabric.thickness, ev.forces, ev.unbalanced,
         ev.on_body, ev.normal, state.constraint,

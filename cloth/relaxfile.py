@@ -4,9 +4,11 @@
 ``iteration`` dimension (the initial state first), and the positions before relaxation
 ``x_initial``, ``y_initial``, ``z_initial`` (m, dims row, col): ``residual`` (1), ``energy`` (J),
 ``penetration`` (m), ``contacts`` (count), ``step`` (m), ``iteration_method`` (0 explicit,
-1 newton). Global attributes: ``solver_method``, ``solver_converged`` (0/1),
-``solver_iterations``, ``solver_tolerance``, ``solver_residual``, ``solver_linear_solver``,
-``solver_seconds``.
+1 newton), ``turning_force`` (N: the force the turning gauge carries along its turn, what a
+skin's friction would carry; `cloth.solvers.problem.turning_gauge`). Global attributes:
+``solver_method``, ``solver_converged`` (0/1), ``solver_iterations``, ``solver_tolerance``,
+``solver_residual``, ``solver_linear_solver``, ``solver_seconds``, ``solver_turning_node`` (the
+gauge node's index, -1 for none).
 """
 
 from __future__ import annotations
@@ -15,6 +17,7 @@ import numpy as np
 import xarray as xr
 
 from cloth.solvers.common import History, Settings
+from cloth.solvers.problem import turning_gauge
 from cloth.state import State, state_dataset
 
 
@@ -40,6 +43,9 @@ def history_variables(history: History) -> dict[str, xr.Variable]:
             flag_values=np.array([0, 1], dtype=np.int8),
             flag_meanings="explicit newton",
         ),
+        "turning_force": var(
+            history.turning, "N", "force on the turning gauge node along its turn about the body"
+        ),
     }
 
 
@@ -57,6 +63,7 @@ def relaxed_dataset(
     stage: str = "relaxed",
 ) -> xr.Dataset:
     """The ``relaxed.nc`` dataset (``stage="diverged"`` for the last finite state of a failure)."""
+    gauge = turning_gauge(state.grid, state.constraint)
     relaxed = state.with_positions(
         x,
         contact=contact.astype(np.int8),
@@ -69,6 +76,7 @@ def relaxed_dataset(
             "solver_residual": float(history.residual[-1]) if len(history) else float("nan"),
             "solver_linear_solver": linear_solver,
             "solver_seconds": float(seconds),
+            "solver_turning_node": -1 if gauge is None else int(gauge),
         },
     )
     ds = state_dataset(relaxed, stage, previous)

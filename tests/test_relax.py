@@ -12,6 +12,9 @@ from cloth.grid import WEFT
 from cloth.predeform import predeform
 from cloth.pressure import contact_reaction, node_area
 from cloth.solvers import Settings, relax
+from cloth.solvers.newton import _direction, stiffness_at
+from cloth.solvers.problem import Problem, turning_gauge
+from cloth.state import FIXED
 
 THICKNESS = 0.55e-3  # the example fabric's
 
@@ -264,3 +267,38 @@ def test_a_failing_linear_solver_falls_back_to_superlu(monkeypatch, caplog):
         x = linear.solve(matrix, np.array([1.0, 2.0]), "amg")
     np.testing.assert_allclose(matrix @ x, [1.0, 2.0])
     assert "falls back" in caplog.text or "uses superlu" in caplog.text
+
+
+def test_a_tube_without_fixed_nodes_is_held_against_turning_at_one_node():
+    """A closed tube with no fixed node may turn about the body; node 0 is its gauge. On a
+    cylinder every turn is an equilibrium, so the gauge carries nothing, and the gauge node
+    keeps exactly one direction fewer than its neighbour in the same row."""
+    state = tube({"cylinder": {"radius": 0.1, "bottom": 0.0, "top": 0.5}}, 0.2, n=32, m=4)
+    assert turning_gauge(state.grid, state.constraint) == 0
+    fixed = state.constraint.copy()
+    fixed[-1] = FIXED
+    assert turning_gauge(state.grid, fixed) is None
+    result = solve(state)
+    ev = result.final
+    assert abs(ev.turning) <= 1e-9 * ev.typical
+    rank = np.linalg.matrix_rank(ev.projector[:2], tol=1e-9)
+    assert rank[1] - rank[0] == 1
+
+
+def test_a_step_without_a_descent_direction_stays_in_the_allowed_directions():
+    """Where no shifted Newton matrix gives a descent direction (here the exact stiffness is
+    turned negative definite), the scaled gradient step still moves only where the constraints
+    let nodes move (it once moved held nodes into the body) and goes downhill."""
+    body = {"elliptic_cylinder": {"a": 0.15, "b": 0.10, "bottom": 0.0, "top": 0.5}}
+    state = tube(body, 0.2, n=32, m=4)
+    problem = Problem.of(state, body_from_config(body)[0])
+    ev = solve(state, iterations=1).final  # every node on the body, not yet balanced
+    stiff = stiffness_at(problem, ev)
+    projector, _ = problem.basis(ev.x, ev.normal, ev.on_body)
+    def flipped(project: bool):
+        return stiff(project) if project else -stiff(project)
+
+    dx, slope = _direction(problem, ev, ev.on_body, projector, flipped, "superlu", (False,))
+    assert np.all(ev.on_body)
+    np.testing.assert_allclose(np.einsum("nij,nj->ni", projector, dx), dx, rtol=0, atol=1e-18)
+    assert slope > 0 and np.abs(dx).max() > 1e-7

@@ -98,7 +98,8 @@ class History:
 
     residual (1), energy (J), penetration (m, largest depth inside the body), contacts (count of
     nodes on the body), step (m, largest node displacement of the iteration), method (0 explicit,
-    1 newton).
+    1 newton), turning (N, the force on the turning gauge along its turn: what friction would
+    carry; 0 without a gauge).
     """
 
     residual: list[float] = field(default_factory=list)
@@ -107,14 +108,16 @@ class History:
     contacts: list[int] = field(default_factory=list)
     step: list[float] = field(default_factory=list)
     method: list[int] = field(default_factory=list)
+    turning: list[float] = field(default_factory=list)
 
-    def record(self, residual, energy, penetration, contacts, step, method) -> None:
+    def record(self, residual, energy, penetration, contacts, step, method, turning=0.0) -> None:
         self.residual.append(float(residual))
         self.energy.append(float(energy))
         self.penetration.append(float(penetration))
         self.contacts.append(int(contacts))
         self.step.append(float(step))
         self.method.append(int(method))
+        self.turning.append(float(turning))
 
     def __len__(self) -> int:
         return len(self.residual)

@@ -19,7 +19,7 @@ from cloth.solvers.common import (
     relative_residual,
     typical_force,
 )
-from cloth.state import SLIDING
+from cloth.state import FIXED, SLIDING, State
 
 #: Newton corrections along the horizontal normal that put a sliding edge node on the body.
 LEVEL_ITERATIONS = 3
@@ -35,7 +35,8 @@ class Evaluation:
     it, lambda > 0);
     projector (N, 3, 3): allowed directions; free (N, 3) N: P R; unbalanced (N, 3) N: R less
     the body's reaction (no edge constraints); residual (1); energy (J);
-    penetration (m, >= 0); springs: the spring state.
+    penetration (m, >= 0); springs: the spring state; turning (N): the force on the gauge node
+    along its turn, which the gauge carries (`turning_gauge`; 0 without one).
     """
 
     x: NDArray[np.float64]
@@ -53,13 +54,61 @@ class Evaluation:
     residual: float
     energy: float
     penetration: float
+    turning: float = 0.0
+
+
+def turning_gauge(grid: Grid, constraint: NDArray[np.int8]) -> int | None:
+    """The node held against turning about the body, or None.
+
+    A tube (``grid.closed``) with no fixed node can turn about the body: with frictionless
+    contact its material slides round the body's sections, and for a uniform tube that costs
+    nothing but discretisation effects, so the turn is undetermined (Newton's matrix is
+    singular along it; on a coarse mesh the garment wandered round the body without end). Node
+    0 (bottom row, first column) fixes it, as a skin's friction would; its reaction
+    (`Evaluation.turning`) is what that friction carries.
+    """
+    return 0 if grid.closed and not np.any(constraint == FIXED) else None
 
 
 @dataclass(frozen=True, eq=False)
 class Problem:
+    """The grid, the body, the nodes' constraints (`cloth.state`: free, sliding, fixed) and the
+    node held against turning (`turning_gauge`; None: none)."""
+
     grid: Grid
     body: Body
     constraint: NDArray[np.int8]
+    gauge: int | None = None
+
+    @classmethod
+    def of(cls, state: State, body: Body) -> Problem:
+        """The problem of relaxing ``state`` on ``body``, with its turning gauge."""
+        return cls(state.grid, body, state.constraint, turning_gauge(state.grid, state.constraint))
+
+    def basis(
+        self, x: NDArray[np.float64], normal: NDArray[np.float64], on_body: NDArray[np.bool_]
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """`constraint_basis` with the gauge held (`hold_turning`): ((N, 3, 3), (3,))."""
+        projector = constraint_basis(self.constraint, normal, on_body)
+        return projector, self.hold_turning(x, projector)
+
+    def hold_turning(
+        self, x: NDArray[np.float64], projector: NDArray[np.float64]
+    ) -> NDArray[np.float64]:
+        """Remove the gauge node's turn from its allowed moves (``projector``, (N, 3, 3), in
+        place) and return that direction ((3,), unit; zeros without a gauge): its turn about
+        the vertical through its row's centre, within the moves its constraints allow."""
+        turn = np.zeros(3)
+        if self.gauge is not None:
+            n = self.grid.n
+            row = x[(self.gauge // n) * n : (self.gauge // n + 1) * n]
+            radial = x[self.gauge] - row.mean(axis=0)
+            along = projector[self.gauge] @ np.array([-radial[1], radial[0], 0.0])
+            length = float(np.linalg.norm(along))
+            if length > 1e-12 * float(np.linalg.norm(radial)):
+                turn = along / length
+                projector[self.gauge] -= np.outer(turn, turn)
+        return turn
 
     def evaluate(self, x: NDArray[np.float64]) -> Evaluation:
         from cloth.mechanics import _operators
@@ -70,7 +119,7 @@ class Problem:
         distance, closest, normal = self.body.query(x)
         push = body_push(forces, normal, self.constraint)
         on_body = pushing(push, distance)
-        projector = constraint_basis(self.constraint, normal, on_body)
+        projector, turn = self.basis(x, normal, on_body)
         free = np.einsum("nij,nj->ni", projector, forces)
         # what the body cannot balance (before edge constraints): R + lambda n on held nodes
         unbalanced = forces + np.where(on_body, push, 0.0)[:, None] * normal
@@ -90,6 +139,8 @@ class Problem:
                 self.constraint[held], normal[held], np.zeros(len(held), bool)
             )
             free[held] = np.einsum("nij,nj->ni", edge_only, remainder)
+            if self.gauge is not None:  # the gauge holds it against turning
+                free[self.gauge] -= (free[self.gauge] @ turn) * turn
         typical = typical_force(np.linalg.norm(spring_force, axis=1), self.grid.family)
         return Evaluation(
             x=x,
@@ -107,6 +158,7 @@ class Problem:
             residual=relative_residual(free, typical),
             energy=energy(x, self.grid, springs),
             penetration=float(max(0.0, -distance.min())) if len(distance) else 0.0,
+            turning=float(forces[self.gauge] @ turn) if self.gauge is not None else 0.0,
         )
 
     def project_out(

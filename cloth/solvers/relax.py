@@ -20,6 +20,8 @@ from cloth.state import State
 
 log = logging.getLogger(__name__)
 
+#: Share of a typical spring force on the turning gauge above which the log warns.
+TURNING_WARNING = 1e-2
 #: Energy growth (relative to the largest seen) that the explicit method treats as divergence.
 GROWTH = 10.0
 
@@ -38,7 +40,9 @@ class Result:
 
 
 def _record(history: History, problem: Problem, ev: Evaluation, step: float, method: int) -> None:
-    history.record(ev.residual, ev.energy, ev.penetration, problem.contacts(ev), step, method)
+    history.record(
+        ev.residual, ev.energy, ev.penetration, problem.contacts(ev), step, method, ev.turning
+    )
 
 
 def _check(ev: Evaluation, last_good: NDArray, history: History, peak: float) -> None:
@@ -55,7 +59,7 @@ def relax(state: State, body: Body, settings: Settings) -> Result:
 
     Raises `Diverged` (with the last finite positions and the history) on NaN or energy growth.
     """
-    problem = Problem(state.grid, body, state.constraint)
+    problem = Problem.of(state, body)
     solver = choose(settings.linear_solver) if settings.method != "explicit" else "none"
     history = History()
     start = time.perf_counter()
@@ -113,4 +117,13 @@ def relax(state: State, body: Body, settings: Settings) -> Result:
         f"{seconds:.2f} s"
     )
     (log.info if converged else log.warning)(message)
+    if problem.gauge is not None:
+        share = abs(ev.turning) / ev.typical
+        (log.warning if share > TURNING_WARNING else log.info)(
+            "turning gauge: node %d holds the garment against turning about the body with "
+            "%.3g N (%.2g of a typical spring force)%s",
+            problem.gauge, ev.turning, share,
+            "; frictionless, the garment would turn: the body's shape has a handedness"
+            if share > TURNING_WARNING else "",
+        )  # fmt: skip
     return Result(ev, history, converged, iterations, settings.method, solver, seconds)
