@@ -96,7 +96,7 @@ def _body_check(args: argparse.Namespace) -> int:
 
     lines = describe(
         args.mesh, args.units, args.up, args.repair, args.levels, args.surface,
-        FitOptions(args.smoothing, args.spacing), args.curvature, args.surface_file,
+        FitOptions(args.smoothing, args.spacing, args.refine), args.curvature, args.surface_file,
     )  # fmt: skip
     print("\n".join(lines))
     return 0
@@ -108,7 +108,7 @@ def _body_fit(args: argparse.Namespace) -> int:
     from cloth.bodies.surfacefile import load_or_fit
 
     mesh = MeshBody.load(args.mesh, args.units, args.up, args.repair, allow_holes=True)
-    load_or_fit(mesh, FitOptions(args.smoothing, args.spacing), args.output)
+    load_or_fit(mesh, FitOptions(args.smoothing, args.spacing, args.refine), args.output)
     return 0
 
 
@@ -352,6 +352,12 @@ def _mesh_options(parser: argparse.ArgumentParser) -> None:
         "--smoothing", type=float, help="smoothing width sigma, m (default: from the mesh)"
     )
     parser.add_argument("--spacing", type=float, help="grid spacing h, m (default: sigma / 2.5)")
+    parser.add_argument(
+        "--refine",
+        type=int,
+        help="times each triangle is split along curved patches before the fit (default: "
+        "until the facets are 8 mm wide, at most 3; 0: never)",
+    )
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -53,6 +53,7 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import NDArray
 
+from cloth.bodies import refine
 from cloth.bodies.base import Segments
 from cloth.bodies.implicit import ImplicitBody
 from cloth.bodies.mesh import MeshBody
@@ -80,16 +81,20 @@ MAX_SAMPLES = 80_000_000
 #: Exact distance samples per call to libigl (and progress-bar update).
 SAMPLE_BATCH = 655_360
 #: Format version of the fit: part of the cache key, so a change refits.
-FIT_VERSION = 2
+FIT_VERSION = 3
+#: Most levels of refinement a case may ask for (each multiplies the faces by 4).
+REFINE_LIMIT = 5
 
 
 @dataclass(frozen=True)
 class FitOptions:
     """How a mesh's smooth surface is fitted (the ``body`` block's ``smoothing`` and
-    ``spacing``, m; None: the defaults of the module docstring)."""
+    ``spacing``, m, and ``refine``, the levels of curved refinement of `cloth.bodies.refine`;
+    None: the defaults of the module docstring)."""
 
     smoothing: float | None = None
     spacing: float | None = None
+    refine: int | None = None
 
     def __post_init__(self) -> None:
         for name in ("smoothing", "spacing"):
@@ -98,6 +103,14 @@ class FitOptions:
                 raise InputError(
                     f"{name} must be a positive length in m, got {value}", field=f"body.{name}"
                 )
+        if self.refine is not None and not (
+            isinstance(self.refine, int | np.integer) and 0 <= self.refine <= REFINE_LIMIT
+        ):
+            raise InputError(
+                f"refine must be a whole number of levels from 0 to {REFINE_LIMIT}, got "
+                f"{self.refine!r}",
+                field="body.refine",
+            )
 
 
 DEFAULT_OPTIONS = FitOptions()
@@ -113,7 +126,11 @@ class SurfaceFit:
     smoothing, spacing, trusted, clamp : float, m
         sigma, h, the band |phi| < trusted where phi is exact, the clamp value.
     crease_spacing : float, m
-        The mesh's facet width across its creases (what the default sigma follows).
+        The facet width across the creases of the mesh as fitted, after refinement (what the
+        default sigma follows).
+    refine_levels : int
+        Times each triangle was split, with its new points on curved patches, before the fit
+        (`cloth.bodies.refine`).
     deviation_max, deviation_rms : float, m
         Distance of the mesh's vertices from the fitted surface (largest, root mean square).
     deviation_mean : float, m
@@ -133,6 +150,7 @@ class SurfaceFit:
     deviation_rms: float
     deviation_mean: float
     key: str
+    refine_levels: int = 0
 
     def record(self) -> dict[str, float | str]:
         """What state and result files record of the fit (lengths in m)."""
@@ -140,6 +158,7 @@ class SurfaceFit:
             "smoothing_m": self.smoothing,
             "spacing_m": self.spacing,
             "crease_spacing_m": self.crease_spacing,
+            "refine_levels": self.refine_levels,
             "deviation_max_m": self.deviation_max,
             "deviation_rms_m": self.deviation_rms,
             "deviation_mean_m": self.deviation_mean,
@@ -183,6 +202,7 @@ def mesh_key(mesh: MeshBody, options: FitOptions) -> str:
             {
                 "smoothing": options.smoothing,
                 "spacing": options.spacing,
+                "refine": options.refine,
                 "version": FIT_VERSION,
                 "defaults": [
                     SMOOTHING_FLOOR,
@@ -193,6 +213,10 @@ def mesh_key(mesh: MeshBody, options: FitOptions) -> str:
                     TRUNCATE,
                     COARSE,
                     FEATURE_ANGLE,
+                    refine.ALPHA,
+                    refine.TARGET_SPACING,
+                    refine.MAX_LEVELS,
+                    refine.NOISE_RATIO,
                 ],
             }
         ).encode()
@@ -200,12 +224,12 @@ def mesh_key(mesh: MeshBody, options: FitOptions) -> str:
     return digest.hexdigest()
 
 
-def _signed_distance(mesh: MeshBody, points: NDArray) -> NDArray:
+def _signed_distance(vertices: NDArray, faces: NDArray, points: NDArray) -> NDArray:
     """Exact distance to the triangles, negative where the winding number exceeds 1/2."""
     import igl
 
-    squared, _, _ = igl.point_mesh_squared_distance(points, mesh.vertices, mesh.faces)
-    winding = igl.fast_winding_number(mesh.vertices, mesh.faces, points)
+    squared, _, _ = igl.point_mesh_squared_distance(points, vertices, faces)
+    winding = igl.fast_winding_number(vertices, faces, points)
     return np.where(winding > 0.5, -1.0, 1.0) * np.sqrt(squared)
 
 
@@ -217,7 +241,16 @@ def fit_surface(
     from scipy.ndimage import gaussian_filter, laplace
     from tqdm import tqdm
 
-    creases = crease_spacing(mesh.vertices, mesh.faces)
+    vertices, faces = mesh.vertices, mesh.faces
+    levels = options.refine
+    if levels is None:
+        levels = refine.refine_levels(
+            crease_spacing(vertices, faces), len(faces), *refine.roughness(vertices, faces)
+        )
+    if levels:
+        vertices, faces = refine.phong_refine(vertices, faces, levels, FEATURE_ANGLE)
+        log.info("refined the mesh %d times along curved patches: %d faces", levels, len(faces))
+    creases = crease_spacing(vertices, faces)
     sigma = options.smoothing or float(
         np.clip(SMOOTHING_FACTOR * creases, SMOOTHING_FLOOR, SMOOTHING_CAP)
     )
@@ -231,8 +264,8 @@ def fit_surface(
         )
     trusted = sigma + 2 * h
     clamp = trusted + TRUNCATE * sigma + 4 * h
-    low = mesh.vertices.min(axis=0) - clamp - 3 * h
-    high = mesh.vertices.max(axis=0) + clamp + 3 * h
+    low = vertices.min(axis=0) - clamp - 3 * h
+    high = vertices.max(axis=0) + clamp + 3 * h
     coarse_shape = np.ceil((high - low) / (COARSE * h)).astype(int) + 1
     shape = (coarse_shape - 1) * COARSE + 1
     samples = int(np.prod(shape))
@@ -252,7 +285,7 @@ def fit_surface(
     # coarse samples bound the distance: |d(x)| >= |d(c)| - |x - c| (1-Lipschitz)
     axes = [low[a] + COARSE * h * np.arange(coarse_shape[a]) for a in range(3)]
     coarse_points = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, 3)
-    coarse = _signed_distance(mesh, coarse_points).reshape(tuple(coarse_shape))
+    coarse = _signed_distance(vertices, faces, coarse_points).reshape(tuple(coarse_shape))
     far_coarse = np.abs(coarse) - 0.5 * np.sqrt(3) * COARSE * h > clamp
     nearest = [np.rint(np.arange(n) / COARSE).astype(np.intp) for n in shape]
     index = np.ix_(*nearest)
@@ -266,7 +299,7 @@ def fit_surface(
         for start in range(0, exact.size, SAMPLE_BATCH):
             chunk = exact[start : start + SAMPLE_BATCH]
             ijk = np.stack(np.unravel_index(chunk, tuple(shape)), axis=1)
-            flat[chunk] = _signed_distance(mesh, low + h * ijk)
+            flat[chunk] = _signed_distance(vertices, faces, low + h * ijk)
             bar.update(chunk.size)
     np.clip(values, -clamp, clamp, out=values)
     smoothed = gaussian_filter(values, sigma / h, mode="nearest", truncate=TRUNCATE)
@@ -296,6 +329,7 @@ def fit_surface(
         deviation_rms=float(np.sqrt(np.mean(off**2))),
         deviation_mean=float(np.mean(off)),
         key=mesh_key(mesh, options),
+        refine_levels=int(levels),
     )
     log.info(
         "smooth surface: %d exact samples; mesh vertices %.3g mm from it at most, %.3g mm RMS, "

@@ -72,6 +72,7 @@ def write_surface(fit: SurfaceFit, path: str | Path, source: str = "") -> Path:
         cloth_kind="surface",
         key=fit.key,
         mesh_source=source,
+        refine_levels=int(fit.refine_levels),
         **{f"{name}_m": float(getattr(fit, name)) for name in _LENGTHS},
     )
     path = Path(path)
@@ -86,6 +87,7 @@ def read_surface(path: str | Path) -> SurfaceFit:
                          ds["coefficient"].values.astype(np.float64))  # fmt: skip
     return SurfaceFit(
         field=spline, key=str(ds.attrs["key"]),
+        refine_levels=int(ds.attrs.get("refine_levels", 0)),
         **{name: float(ds.attrs[f"{name}_m"]) for name in _LENGTHS},
     )  # fmt: skip
 
