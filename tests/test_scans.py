@@ -21,8 +21,11 @@ from cloth.state import FREE, SLIDING
 from tests.conftest import capped_cylinder, write_obj
 from tests.test_relax import solve, tube
 
-#: The garment of the comparison: the hip line is its lower edge, the bust line inside it.
-GARMENT = {"bottom": 0.86, "top": 1.25, "reduction": 0.15, "edges": "sliding"}
+#: The garment of the comparison: every girth line lies inside it, none on an edge row (whose
+#: pressure also depends on how its support's reaction splits, docs/model.md).
+GARMENT = {"bottom": 0.80, "top": 1.25, "reduction": 0.15, "edges": "sliding"}
+#: The largest force on the turning gauge, x a typical spring force, on an achiral mesh.
+TURNING_SHARE = 1e-3
 
 
 def girth_pressures(body: dict, grid: tuple[int, int]):
@@ -84,25 +87,31 @@ def smooth_torso():
     return girth_pressures({"torso": {"size": "M"}}, (96, 48))
 
 
-def test_torso_mesh_converges_and_presses_like_the_smooth_torso(smooth_torso, tmp_path):
-    """The torso's own mesh (128 around x 120 rings) at 96 x 48: converged to 1e-8, the last
-    Newton steps quadratic; the girth-line means within 3 % of the smooth torso's at the hip
-    (the lower edge), waist and underbust. At the bust line the pressure changes by ~40 % per
-    cm of height on this torso, so that row compares the two bust shapes, not the contact:
-    measured +7 %, held to 10 % here (docs/validation.md)."""
-    path = write_obj(tmp_path / "torso.obj", *torso_mesh(chart_size("M"), 128, 120))
+@pytest.mark.parametrize(("around", "rings"), [(128, 120), (32, 30)], ids=["default", "coarse"])
+def test_torso_mesh_converges_and_presses_like_the_smooth_torso(
+    smooth_torso, tmp_path, around, rings
+):
+    """The torso's own mesh at its default resolution (128 around x 120 rings) and a coarse
+    one (32 x 30, facets about 30 mm wide, refined along curved patches before the fit) at
+    96 x 48: converged to 1e-8, the last Newton steps quadratic; the girth-line means within 3 %
+    of the smooth torso's at the hip, waist and underbust. At the bust line the pressure changes
+    by ~40 % per cm of height on this torso, so that row compares the two bust shapes, not the
+    contact: held to 5 % here (docs/validation.md). The turning gauge carries next to nothing:
+    the coarse mesh's garment turned about the body without end before it (docs/solvers.md)."""
+    path = write_obj(tmp_path / "torso.obj", *torso_mesh(chart_size("M"), around, rings))
     result, state, mesh = girth_pressures({"mesh": str(path)}, (96, 48))
     assert result.converged
     residual = np.asarray(result.history.residual)
     assert residual[-1] <= 1e-8
     small = np.flatnonzero(residual[:-1] < 1e-3)
     assert residual[-1] <= 10 * residual[small[-1]] ** 2  # quadratic at the end
+    assert abs(result.final.turning) <= TURNING_SHARE * result.final.typical
     assert state.body["surface"]["kind"] == "smooth"
     assert 0 < state.body["surface"]["smoothing_m"] <= 0.015
     _, _, smooth = smooth_torso
     for name in ("hip", "waist", "underbust"):
         assert mesh[name] == pytest.approx(smooth[name], rel=0.03), name
-    assert mesh["bust"] == pytest.approx(smooth["bust"], rel=0.10)
+    assert mesh["bust"] == pytest.approx(smooth["bust"], rel=0.05)
 
 
 def test_garment_wraps_the_largest_loop_and_says_so(tmp_path, caplog):
