@@ -30,6 +30,9 @@ from cloth.materialfile import fabric_variables
 from cloth.state import CONSTRAINT_MEANINGS, CONTACT_MEANINGS, State
 
 KIND = "result"
+#: The solver history copied from relaxed.nc, per iteration.
+HISTORY = ("residual", "energy", "penetration", "contacts", "step", "iteration_method",
+           "turning_force")  # fmt: skip
 
 
 #: A spring strained less than this (1) is slack (rounding leaves +-1e-16 on unstrained ones).
@@ -149,7 +152,7 @@ def result_dataset(
         )  # fmt: skip
     for name in ("spring_family", "spring_node_a", "spring_node_b", "rest_length", "area"):
         variables[name] = relaxed[name].variable
-    for name in ("residual", "energy", "penetration", "contacts", "step", "iteration_method"):
+    for name in HISTORY:
         if name in relaxed:
             variables[name] = relaxed[name].variable
     variables.update(fabric_variables(state.fabric))

@@ -295,6 +295,7 @@ def test_a_step_without_a_descent_direction_stays_in_the_allowed_directions():
     ev = solve(state, iterations=1).final  # every node on the body, not yet balanced
     stiff = stiffness_at(problem, ev)
     projector, _ = problem.basis(ev.x, ev.normal, ev.on_body)
+
     def flipped(project: bool):
         return stiff(project) if project else -stiff(project)
 

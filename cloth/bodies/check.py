@@ -53,7 +53,8 @@ def describe(
         fit = fitted.fit
         lines += [
             f"smooth surface: sigma {fit.smoothing * 1e3:.3g} mm, grid {fit.spacing * 1e3:.3g} mm "
-            f"(creases {fit.crease_spacing * 1e3:.3g} mm apart); {fitted.record()['file']}",
+            f"(creases {fit.crease_spacing * 1e3:.3g} mm apart, the mesh refined "
+            f"{fit.refine_levels} times); {fitted.record()['file']}",
             f"vertices from the smooth surface: max {fit.deviation_max * 1e3:.3g} mm, "
             f"RMS {fit.deviation_rms * 1e3:.3g} mm, mean {fit.deviation_mean * 1e3:+.3g} mm "
             "(positive: the surface lies inside the mesh)",
