@@ -8,6 +8,9 @@ BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 CORES ?= all
 CONFIG ?= config/config.yaml
+# optional extras tried after the required ones (`make test OPTIONAL=cholmod`); one that does
+# not install is reported and its tests skip
+OPTIONAL ?=
 # The Snakemake rules call the `cloth` CLI: put the venv first on PATH for them.
 export PATH := $(CURDIR)/$(BIN):$(PATH)
 export MPLBACKEND := Agg
@@ -20,6 +23,7 @@ $(STAMP): pyproject.toml
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
 	$(BIN)/python -m pip install --quiet -e '.[test,dev]'
+	$(if $(OPTIONAL),$(BIN)/python -m pip install --quiet -e '.[$(OPTIONAL)]' || echo "make: the extras $(OPTIONAL) did not install; their tests skip" >&2)
 	touch $(STAMP)
 
 run: $(STAMP)

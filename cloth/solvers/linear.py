@@ -6,12 +6,15 @@
 * ``pardiso`` (pypardiso, optional; x86-64, ~940 MB of MKL).
 * ``amg`` (pyamg, optional): conjugate gradients preconditioned by smoothed-aggregation AMG.
 
-``auto`` prefers pardiso, then cholmod, then superlu (amg only on request: its setup costs
-seconds on small grids). The tests run every installed backend against superlu; superlu and amg
+``auto`` prefers pardiso, then superlu: both take the exact Hessian, which is indefinite where
+the contact curvature term outweighs the fabric. cholmod and amg only on request: Cholesky and
+CG need the PSD-projected Hessian, and a step whose matrix is still indefinite falls back to
+superlu; with cholmod as ``auto``, the torso-mesh cases lost their quadratic convergence
+(measured: 5e-9 after 8e-6) and logged a fallback every few steps; amg's setup also costs
+seconds on small grids. The tests run every installed backend against superlu; superlu and amg
 always (amg is in the test extra), pardiso where the ``pardiso`` extra is installed (checked
-with pypardiso 0.4.7, MKL 2026.2). The cholmod adapter has not run here: scikit-sparse 0.5.0
-does not build against Debian's SuiteSparse 5.12 (its cholmod_common lacks members the wrapper
-uses).
+with pypardiso 0.4.7, MKL 2026.2), cholmod where the ``cholmod`` extra is (scikit-sparse 0.4.16
+against Debian's SuiteSparse 5.12; 0.5 does not build against it).
 """
 
 from __future__ import annotations
@@ -28,6 +31,8 @@ from cloth.errors import InputError
 log = logging.getLogger(__name__)
 
 PACKAGES = {"cholmod": "sksparse", "pardiso": "pypardiso", "amg": "pyamg"}
+#: What ``auto`` takes, the first installed: backends that take the exact, indefinite Hessian.
+AUTO = ("pardiso", "superlu")
 #: Backends that solve symmetric indefinite systems (Newton then uses the exact Hessian).
 INDEFINITE = ("superlu", "pardiso")
 INSTALL = {"cholmod": "scikit-sparse", "pardiso": "pypardiso", "amg": "pyamg"}
@@ -40,7 +45,7 @@ def available(name: str) -> bool:
 def choose(name: str) -> str:
     """The solver that ``name`` means here; an error when it is not installed."""
     if name == "auto":
-        return next(s for s in ("pardiso", "cholmod", "superlu") if available(s))
+        return next(s for s in AUTO if available(s))
     if not available(name):
         raise InputError(
             f"linear solver {name!r} is not installed; pip install {INSTALL[name]} or use "
