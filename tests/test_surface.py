@@ -7,15 +7,9 @@ import pytest
 import trimesh
 
 from cloth.bodies.mesh import MeshBody
-from cloth.bodies.refine import phong_refine, refine_levels, roughness
+from cloth.bodies.refine import auto_levels, phong_refine
 from cloth.bodies.spline import SplineField
-from cloth.bodies.surface import (
-    FEATURE_ANGLE,
-    FitOptions,
-    SmoothMeshBody,
-    crease_spacing,
-    fit_surface,
-)
+from cloth.bodies.surface import FitOptions, SmoothMeshBody, fit_surface
 from cloth.bodies.surfacefile import load_or_fit, read_surface
 from cloth.cli import main
 from tests.conftest import capped_cylinder, write_obj
@@ -89,7 +83,7 @@ def test_sphere_and_cylinder_meshes_converge_to_the_closed_form():
             v, f = np.asarray(mesh.vertices), np.asarray(mesh.faces)
             body = smooth(v, f, refine=0)
             flat.append(errors(body, at, offset, normal))
-            if refine_levels(crease_spacing(v, f), len(f), *roughness(v, f)):
+            if auto_levels(v, f):
                 default.append(errors(smooth(v, f), at, offset, normal))
             else:  # the same fit
                 default.append(flat[-1])
@@ -206,7 +200,7 @@ def test_phong_refinement_puts_new_points_on_the_curved_body(kind):
     else:
         sphere = trimesh.creation.icosphere(subdivisions=1, radius=R)
         vertices, faces = sphere.vertices, sphere.faces
-    refined, triangles = phong_refine(vertices, faces, 2, FEATURE_ANGLE)
+    refined, triangles = phong_refine(vertices, faces, 2)
     mesh = trimesh.Trimesh(refined, triangles, process=False)
     assert mesh.is_watertight and mesh.is_winding_consistent and mesh.volume > 0
     if kind == "cylinder":  # the side, away from the rims (features: kept flat)
@@ -227,10 +221,7 @@ def test_only_clean_coarse_meshes_are_refined():
     (facets 20 mm wide) is split twice; with 1 mm of vertex noise it is not; a fine one
     (256 segments, 2.5 mm) needs none."""
     vertices, faces = capped_cylinder(R, 0.4, 32)
-    creases = crease_spacing(vertices, faces)
-    assert refine_levels(creases, len(faces), *roughness(vertices, faces)) == 2
+    assert auto_levels(vertices, faces) == 2
     noisy = vertices + RNG.normal(scale=1e-3, size=vertices.shape)
-    assert refine_levels(crease_spacing(noisy, faces), len(faces), *roughness(noisy, faces)) == 0
-    fine, fine_faces = capped_cylinder(R, 0.4, 256)
-    fine_creases = crease_spacing(fine, fine_faces)
-    assert refine_levels(fine_creases, len(fine_faces), *roughness(fine, fine_faces)) == 0
+    assert auto_levels(noisy, faces) == 0
+    assert auto_levels(*capped_cylinder(R, 0.4, 256)) == 0

@@ -19,13 +19,10 @@ out by 0.24 mm). A vertex on a feature edge (bent by `FEATURE_ANGLE` or more: a 
 keeps its facets flat around it: its tangent plane is undefined.
 
 When. Phong patches assume the vertices lie on a smooth surface; a noisy scan's do not, and its
-noise, not its facets, sets the smoothing it needs. `roughness` compares the two: the flatness
-of the facets (median |n . L|, L the umbrella Laplacian of a vertex: how far the mean of its
-neighbours lies off its tangent plane, ~ w^2 kappa / 4 for facets w wide) and the scatter of the
-vertices about a smooth surface (median |n . L - its neighbours' mean|: ~ the noise; measured
-1.06-1.36 mm at 1 mm of noise, 0.30-0.37 mm at 0.3 mm, 0.55 mm on the clean 32 x 30 torso mesh).
-A mesh is refined only while its scatter is under `NOISE_RATIO` of its flatness (the clean
-torso meshes: 0.30-0.33; with 1 mm of noise: 0.75-1.3).
+noise, not its facets, sets the smoothing it needs: a mesh is refined only while the scatter of
+its vertices about a smooth surface is under `NOISE_RATIO` of its facets' flatness
+(`cloth.bodies.tessellation.roughness`; the clean torso meshes: 0.30-0.33; with 1 mm of noise:
+0.75-1.3).
 
 Shapes and units: vertices (V, 3) m, faces (F, 3) int.
 """
@@ -36,6 +33,8 @@ import logging
 
 import numpy as np
 from numpy.typing import NDArray
+
+from cloth.bodies.tessellation import FEATURE_ANGLE, crease_spacing, roughness
 
 log = logging.getLogger(__name__)
 
@@ -49,26 +48,6 @@ MAX_LEVELS = 3
 MAX_FACES = 2_000_000
 #: A mesh whose vertices scatter more than this share of its facets' flatness is not refined.
 NOISE_RATIO = 0.5
-
-
-def roughness(vertices: NDArray[np.float64], faces: NDArray[np.intp]) -> tuple[float, float]:
-    """(scatter, flatness), m: the median scatter of the vertices about a smooth surface and
-    the median flatness error of the facets (module docstring)."""
-    import scipy.sparse as sp
-    import trimesh
-
-    mesh = trimesh.Trimesh(vertices, faces, process=False)
-    edges = mesh.edges_unique
-    count = len(vertices)
-    adjacency = sp.coo_matrix(
-        (np.ones(2 * len(edges)), (edges.ravel(), edges[:, ::-1].ravel())), shape=(count, count)
-    ).tocsr()
-    degree = np.maximum(np.asarray(adjacency.sum(axis=1)).ravel(), 1.0)
-    umbrella = adjacency @ vertices / degree[:, None] - vertices
-    offset = np.einsum("ij,ij->i", umbrella, mesh.vertex_normals)
-    scatter = np.abs(offset - adjacency @ offset / degree)
-    used = np.asarray(adjacency.sum(axis=1)).ravel() > 0
-    return float(np.median(scatter[used])), float(np.median(np.abs(offset[used])))
 
 
 def refine_levels(crease_spacing: float, faces: int, scatter: float, flatness: float) -> int:
@@ -96,11 +75,16 @@ def refine_levels(crease_spacing: float, faces: int, scatter: float, flatness: f
     return levels
 
 
+def auto_levels(vertices: NDArray[np.float64], faces: NDArray[np.intp]) -> int:
+    """`refine_levels` of a mesh, from its crease spacing and `roughness`."""
+    return refine_levels(crease_spacing(vertices, faces), len(faces), *roughness(vertices, faces))
+
+
 def phong_refine(
     vertices: NDArray[np.float64],
     faces: NDArray[np.intp],
     levels: int,
-    feature_angle: float,
+    feature_angle: float = FEATURE_ANGLE,
 ) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
     """The mesh split ``levels`` times with its new points on Phong patches (module docstring)."""
     import trimesh

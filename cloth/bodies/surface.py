@@ -58,6 +58,7 @@ from cloth.bodies.base import Segments
 from cloth.bodies.implicit import ImplicitBody
 from cloth.bodies.mesh import MeshBody
 from cloth.bodies.spline import SplineField
+from cloth.bodies.tessellation import FEATURE_ANGLE, crease_spacing
 from cloth.errors import InputError
 
 log = logging.getLogger(__name__)
@@ -67,8 +68,6 @@ SMOOTHING_FLOOR = 5e-3
 SMOOTHING_CAP = 15e-3
 #: Default sigma as a multiple of the mesh's crease spacing.
 SMOOTHING_FACTOR = 1.0
-#: An edge bent by this much (rad) or more is a feature of the body, not a tessellation crease.
-FEATURE_ANGLE = 0.5
 #: Largest default grid spacing h, m, and h as a fraction of sigma.
 MAX_SPACING = 3e-3
 SPACING_FACTOR = 0.4
@@ -166,32 +165,6 @@ class SurfaceFit:
         }
 
 
-def crease_spacing(vertices: NDArray[np.float64], faces: NDArray[np.intp]) -> float:
-    """Median width (m) of the facets across their shared edges, weighted by the edge's length
-    times its bending angle: how far apart the creases a smooth surface must round off are
-    (a regular mesh: about its edge length; the long side faces of a cylinder: their width).
-    Edges bent by `FEATURE_ANGLE` or more (a cylinder's rims) are features, not creases of a
-    tessellated smooth surface, and do not count."""
-    import trimesh
-
-    mesh = trimesh.Trimesh(vertices, faces, process=False)
-    pairs, edges = mesh.face_adjacency, mesh.face_adjacency_edges
-    if len(pairs) == 0:
-        return float(np.median(mesh.edges_unique_length))
-    length = np.linalg.norm(vertices[edges[:, 0]] - vertices[edges[:, 1]], axis=1)
-    area = mesh.area_faces
-    with np.errstate(divide="ignore", invalid="ignore"):
-        width = (area[pairs[:, 0]] + area[pairs[:, 1]]) / np.where(length > 0, length, np.inf)
-    angle = mesh.face_adjacency_angles
-    weight = np.where(angle < FEATURE_ANGLE, angle * length, 0.0)  # sharper: a feature
-    good = np.isfinite(width) & (width > 0) & (weight > 0)
-    if not np.any(good):
-        return float(np.median(mesh.edges_unique_length))
-    order = np.argsort(width[good])
-    cumulative = np.cumsum(weight[good][order])
-    return float(width[good][order][np.searchsorted(cumulative, 0.5 * cumulative[-1])])
-
-
 def mesh_key(mesh: MeshBody, options: FitOptions) -> str:
     """sha256 of the mesh as used (metres, z up), the fit options and the defaults."""
     digest = hashlib.sha256()
@@ -242,13 +215,9 @@ def fit_surface(
     from tqdm import tqdm
 
     vertices, faces = mesh.vertices, mesh.faces
-    levels = options.refine
-    if levels is None:
-        levels = refine.refine_levels(
-            crease_spacing(vertices, faces), len(faces), *refine.roughness(vertices, faces)
-        )
+    levels = refine.auto_levels(vertices, faces) if options.refine is None else options.refine
     if levels:
-        vertices, faces = refine.phong_refine(vertices, faces, levels, FEATURE_ANGLE)
+        vertices, faces = refine.phong_refine(vertices, faces, levels)
         log.info("refined the mesh %d times along curved patches: %d faces", levels, len(faces))
     creases = crease_spacing(vertices, faces)
     sigma = options.smoothing or float(
