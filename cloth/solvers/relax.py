@@ -119,11 +119,12 @@ def relax(state: State, body: Body, settings: Settings) -> Result:
     (log.info if converged else log.warning)(message)
     if problem.gauge is not None:
         share = abs(ev.turning) / ev.typical
-        (log.warning if share > TURNING_WARNING else log.info)(
+        turns = converged and share > TURNING_WARNING  # unbalanced, it says nothing yet
+        (log.warning if turns else log.info)(
             "turning gauge: node %d holds the garment against turning about the body with "
             "%.3g N (%.2g of a typical spring force)%s",
             problem.gauge, ev.turning, share,
             "; frictionless, the garment would turn: the body's shape has a handedness"
-            if share > TURNING_WARNING else "",
+            if turns else "",
         )  # fmt: skip
     return Result(ev, history, converged, iterations, settings.method, solver, seconds)
