@@ -215,7 +215,8 @@ def _relax_state(state, base_dir, args, output: Path, previous: dict | None) -> 
     write_netcdf(
         relaxed_dataset(state, final.x, final.on_body, result.history, settings,
                         result.converged, result.iterations, result.linear_solver,
-                        result.seconds, previous),
+                        result.seconds, previous, factorisations=result.factorisations,
+                        peak_memory=result.peak_memory),
         output,
     )  # fmt: skip
     log.info("wrote %s", output)

@@ -8,7 +8,8 @@
 skin's friction would carry; `cloth.solvers.problem.turning_gauge`). Global attributes:
 ``solver_method``, ``solver_converged`` (0/1), ``solver_iterations``, ``solver_tolerance``,
 ``solver_residual``, ``solver_linear_solver``, ``solver_seconds``, ``solver_turning_node`` (the
-gauge node's index, -1 for none).
+gauge node's index, -1 for none), ``solver_factorisations`` (linear systems factorised by the
+run) and ``solver_peak_memory_mib`` (the process's peak resident memory at its end, MiB).
 """
 
 from __future__ import annotations
@@ -61,6 +62,8 @@ def relaxed_dataset(
     seconds: float,
     previous: dict | None = None,
     stage: str = "relaxed",
+    factorisations: int = 0,
+    peak_memory: float = 0.0,
 ) -> xr.Dataset:
     """The ``relaxed.nc`` dataset (``stage="diverged"`` for the last finite state of a failure)."""
     gauge = turning_gauge(state.grid, state.constraint)
@@ -77,6 +80,8 @@ def relaxed_dataset(
             "solver_linear_solver": linear_solver,
             "solver_seconds": float(seconds),
             "solver_turning_node": -1 if gauge is None else int(gauge),
+            "solver_factorisations": int(factorisations),
+            "solver_peak_memory_mib": float(peak_memory) / 2**20,
         },
     )
     ds = state_dataset(relaxed, stage, previous)

@@ -308,3 +308,26 @@ def test_a_step_without_a_descent_direction_stays_in_the_allowed_directions():
     assert np.all(ev.on_body)
     np.testing.assert_allclose(np.einsum("nij,nj->ni", projector, dx), dx, rtol=0, atol=1e-18)
     assert slope > 0 and np.abs(dx).max() > 1e-7
+
+
+def test_factorisations_and_peak_memory_are_recorded(monkeypatch):
+    """Every linear system a run factorises is counted (here against a count of the backend's
+    calls), at least one per Newton iteration, and relaxed.nc records the count and the peak
+    memory."""
+    from cloth.relaxfile import relaxed_dataset
+    from cloth.solvers import linear
+
+    calls = []
+    factorise = linear._solve
+    monkeypatch.setattr(linear, "_solve", lambda *a: calls.append(1) or factorise(*a))
+    state = tube({"cylinder": {"radius": 0.1, "bottom": 0.0, "top": 0.5}}, 0.2, n=32, m=4)
+    result = solve(state)
+    assert result.iterations > 0 and result.factorisations == len(calls) >= result.iterations
+    assert result.peak_memory > 2**20
+    ds = relaxed_dataset(
+        state, result.final.x, result.final.on_body, result.history, Settings(), True,
+        result.iterations, result.linear_solver, result.seconds,
+        factorisations=result.factorisations, peak_memory=result.peak_memory,
+    )  # fmt: skip
+    assert ds.attrs["solver_factorisations"] == len(calls)
+    assert ds.attrs["solver_peak_memory_mib"] == pytest.approx(result.peak_memory / 2**20)

@@ -71,7 +71,18 @@ def solve(matrix: sp.csr_matrix, rhs: NDArray[np.float64], name: str) -> NDArray
         return _solve(matrix, rhs, "superlu")
 
 
+_factorisations = 0
+
+
+def factorisations() -> int:
+    """Linear systems factorised so far in this process (an AMG setup counts as one, a failed
+    attempt too): `cloth.solvers.relax` records the difference over a run."""
+    return _factorisations
+
+
 def _solve(matrix: sp.csr_matrix, rhs: NDArray[np.float64], name: str) -> NDArray[np.float64]:
+    global _factorisations
+    _factorisations += 1
     if name == "superlu":
         from scipy.sparse.linalg import splu
 

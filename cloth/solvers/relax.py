@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import logging
+import sys
 import time
 from dataclasses import dataclass
 
@@ -13,7 +14,7 @@ from tqdm import tqdm
 from cloth.bodies import Body
 from cloth.solvers.common import Diverged, History, Settings
 from cloth.solvers.explicit import MAX_STEP, explicit_step, shortest_rest
-from cloth.solvers.linear import choose
+from cloth.solvers.linear import choose, factorisations
 from cloth.solvers.newton import newton_step
 from cloth.solvers.problem import Evaluation, Problem
 from cloth.state import State
@@ -28,7 +29,9 @@ GROWTH = 10.0
 
 @dataclass(frozen=True)
 class Result:
-    """Outcome of `relax`: final evaluation, history and solver facts."""
+    """Outcome of `relax`: final evaluation, history and solver facts (``factorisations``:
+    linear systems factorised by the run; ``peak_memory``: the process's peak resident memory
+    at its end, bytes)."""
 
     final: Evaluation
     history: History
@@ -37,6 +40,8 @@ class Result:
     method: str
     linear_solver: str
     seconds: float
+    factorisations: int = 0
+    peak_memory: float = 0.0
 
 
 def _record(history: History, problem: Problem, ev: Evaluation, step: float, method: int) -> None:
@@ -63,6 +68,7 @@ def relax(state: State, body: Body, settings: Settings) -> Result:
     solver = choose(settings.linear_solver) if settings.method != "explicit" else "none"
     history = History()
     start = time.perf_counter()
+    factorised = factorisations()
     ev = problem.evaluate(problem.project_out(state.x))
     _record(history, problem, ev, 0.0, 0)
     peak = max(ev.energy, 1e-300)
@@ -127,4 +133,17 @@ def relax(state: State, body: Body, settings: Settings) -> Result:
             "; frictionless, the garment would turn: the body's shape has a handedness"
             if turns else "",
         )  # fmt: skip
-    return Result(ev, history, converged, iterations, settings.method, solver, seconds)
+    count = factorisations() - factorised
+    peak = peak_memory()
+    log.info("%d linear factorisations; peak memory %.0f MiB", count, peak / 2**20)
+    return Result(ev, history, converged, iterations, settings.method, solver, seconds, count, peak)
+
+
+def peak_memory() -> float:
+    """The process's peak resident memory so far, bytes (0 where the platform does not say)."""
+    try:
+        import resource
+    except ImportError:  # not on Windows
+        return 0.0
+    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    return float(peak if sys.platform == "darwin" else peak * 1024)  # macOS: bytes; Linux: KiB
