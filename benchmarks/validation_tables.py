@@ -97,9 +97,9 @@ def cone_table() -> str:
     the warp stretched too: the Laplace diagnostic and the edge rows' shares."""
     import tempfile
 
-    from cloth.aggregate import aggregate
     from cloth.io import write_netcdf
     from cloth.relaxfile import relaxed_dataset
+    from cloth.stages import aggregate
 
     rows = []
     folder = Path(tempfile.mkdtemp(prefix="cloth-validation-"))

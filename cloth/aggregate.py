@@ -23,13 +23,12 @@ from __future__ import annotations
 import json
 import logging
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 from numpy.typing import NDArray
 
 from cloth.grid import WARP, WEFT, Grid
-from cloth.mechanics import SpringState, spring_state
+from cloth.mechanics import SpringState
 from cloth.pressure import contact_reaction, node_area
 from cloth.state import SLIDING
 
@@ -280,49 +279,6 @@ def girth_extrema(state) -> dict[str, float]:
             elif d[j - 1] > 0 >= d[j]:
                 out[f"girth_max_{len(out) + 1}"] = float(z[j])
     return out or {"middle": float(0.5 * (z.min() + z.max()))}
-
-
-def aggregate(relaxed_path, base_dir="."):
-    """relaxed.nc -> (result dataset, summary rows): the stage's function.
-
-    Rebuilds the model and body from the state file, evaluates the final positions (forces,
-    contact, normals) and computes every field, landmark and total.
-    """
-    from cloth.bodies import body_from_config
-    from cloth.resultfile import result_dataset, summary_rows
-    from cloth.solvers.problem import Problem
-    from cloth.state import read_state
-
-    state, ds = read_state(relaxed_path, "relaxed")
-    body, ref = body_from_config(state.case["body"], base_dir)
-    ev = Problem.of(state, body).evaluate(state.x)
-    fields = node_fields(
-        state.grid, state.x, ev.springs, state.fabric.thickness, ev.forces, ev.unbalanced,
-        ev.on_body, ev.normal, state.constraint,
-    )  # fmt: skip
-    heights = dict(ref.get("landmarks", {}))
-    heights.update(state.case.get("landmarks", {}))
-    if not heights:
-        heights = girth_extrema(state)
-    marks = landmarks(heights, state.x, fields, state.grid)
-    result = result_dataset(state, fields, marks, ds)
-    if "x_initial" in ds:
-        start = np.stack([ds[f"{a}_initial"].values.ravel() for a in "xyz"], axis=1)
-        before = node_average(state.grid, spring_state(start, state.grid).stress, WEFT)
-        result = result.assign(
-            {
-                f"{a}_initial": ds[f"{a}_initial"].variable for a in "xyz"
-            }
-            | {
-                "stress_weft_initial": (
-                    ("row", "col"), before.reshape(state.grid.m, state.grid.n),
-                    {"units": "Pa", "long_name": "weft stress before relaxation"},
-                )
-            }
-        )  # fmt: skip
-    result = result.assign(lab_range_variables(state, ev.springs.strain))
-    name = Path(relaxed_path).parent.name
-    return result, summary_rows(result, name)
 
 
 def lab_range_variables(state, strain: NDArray[np.float64]) -> dict:

@@ -246,9 +246,9 @@ def _run(args: argparse.Namespace) -> int:
 
 
 def _aggregate(args: argparse.Namespace) -> int:
-    from cloth.aggregate import aggregate
     from cloth.io import write_netcdf
     from cloth.resultfile import write_summary
+    from cloth.stages import aggregate
 
     base_dir = args.base_dir if args.base_dir is not None else Path(".")
     ds, rows = aggregate(args.relaxed, base_dir)

@@ -6,11 +6,12 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from cloth.aggregate import MMHG, aggregate, comfort_group, node_fields, ral_class
+from cloth.aggregate import MMHG, comfort_group, node_fields, ral_class
 from cloth.cli import main
 from cloth.grid import rectangle
 from cloth.io import write_netcdf
 from cloth.mechanics import spring_state
+from cloth.stages import aggregate
 from tests.test_relax import THICKNESS, solve, tube
 
 
