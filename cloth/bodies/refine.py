@@ -75,9 +75,15 @@ def refine_levels(crease_spacing: float, faces: int, scatter: float, flatness: f
     return levels
 
 
-def auto_levels(vertices: NDArray[np.float64], faces: NDArray[np.intp]) -> int:
-    """`refine_levels` of a mesh, from its crease spacing and `roughness`."""
-    return refine_levels(crease_spacing(vertices, faces), len(faces), *roughness(vertices, faces))
+def auto_levels(
+    vertices: NDArray[np.float64], faces: NDArray[np.intp], creases: float | None = None
+) -> int:
+    """`refine_levels` of a mesh, from its crease spacing (``creases``, m, when the caller has
+    it) and, only where its facets are wide enough to refine, its `roughness`."""
+    creases = crease_spacing(vertices, faces) if creases is None else creases
+    if creases <= TARGET_SPACING:
+        return 0
+    return refine_levels(creases, len(faces), *roughness(vertices, faces))
 
 
 def phong_refine(

@@ -215,11 +215,14 @@ def fit_surface(
     from tqdm import tqdm
 
     vertices, faces = mesh.vertices, mesh.faces
-    levels = refine.auto_levels(vertices, faces) if options.refine is None else options.refine
+    creases = crease_spacing(vertices, faces)
+    levels = options.refine
+    if levels is None:
+        levels = refine.auto_levels(vertices, faces, creases)
     if levels:
         vertices, faces = refine.phong_refine(vertices, faces, levels)
         log.info("refined the mesh %d times along curved patches: %d faces", levels, len(faces))
-    creases = crease_spacing(vertices, faces)
+        creases = crease_spacing(vertices, faces)
     sigma = options.smoothing or float(
         np.clip(SMOOTHING_FACTOR * creases, SMOOTHING_FLOOR, SMOOTHING_CAP)
     )

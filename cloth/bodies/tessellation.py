@@ -59,9 +59,10 @@ def roughness(vertices: NDArray[np.float64], faces: NDArray[np.intp]) -> tuple[f
     adjacency = sp.coo_matrix(
         (np.ones(2 * len(edges)), (edges.ravel(), edges[:, ::-1].ravel())), shape=(count, count)
     ).tocsr()
-    degree = np.maximum(np.asarray(adjacency.sum(axis=1)).ravel(), 1.0)
+    neighbours = np.asarray(adjacency.sum(axis=1)).ravel()
+    used = neighbours > 0
+    degree = np.maximum(neighbours, 1.0)
     umbrella = adjacency @ vertices / degree[:, None] - vertices
     offset = np.einsum("ij,ij->i", umbrella, mesh.vertex_normals)
     scatter = np.abs(offset - adjacency @ offset / degree)
-    used = np.asarray(adjacency.sum(axis=1)).ravel() > 0
     return float(np.median(scatter[used])), float(np.median(np.abs(offset[used])))

@@ -143,7 +143,7 @@ def peak_memory() -> float:
     """The process's peak resident memory so far, bytes (0 where the platform does not say)."""
     try:
         import resource
-    except ImportError:  # not on Windows
+    except ImportError:  # Windows has no resource module
         return 0.0
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
     return float(peak if sys.platform == "darwin" else peak * 1024)  # macOS: bytes; Linux: KiB
