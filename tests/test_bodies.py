@@ -130,6 +130,21 @@ def test_torso_mesh_is_mirror_symmetric_like_the_torso(around, rings):
     assert triangles(mirrored) == triangles(vertices)
 
 
+@pytest.mark.parametrize("rings", [30, 60, 120])
+def test_torso_mesh_rings_are_even_and_meet_the_landmarks(rings):
+    """``rings`` rings through every landmark height, no gap more than 15 % off the even one:
+    rings added at the landmarks left slivers of 3 mm among 19 mm rings (32 x 30), where 1 mm
+    of vertex noise made slopes of 0.3 on the girth lines themselves."""
+    chart = chart_size("M")
+    vertices, _ = torso_mesh(chart, 32, rings)
+    heights = np.unique(vertices[:, 2])
+    assert heights.size == rings
+    for landmark in LANDMARKS:
+        assert np.min(np.abs(heights - chart.height[landmark])) < 1e-12, landmark
+    even = (chart.height["top"] - chart.height["bottom"]) / (rings - 1)
+    np.testing.assert_allclose(np.diff(heights), even, rtol=0.15)
+
+
 def test_units_and_up_axis_give_the_same_body(tmp_path):
     vertices, faces = torso_mesh(chart_size("M"), around=64, rings=40)
 

@@ -149,20 +149,38 @@ def _perimeter(xy: NDArray) -> float:
     return float(np.sum(np.linalg.norm(np.roll(xy, -1, axis=0) - xy, axis=1)))
 
 
+def _ring_heights(bottom: float, top: float, rings: int, marks: list[float]) -> NDArray:
+    """``rings`` heights (m) from ``bottom`` to ``top`` through every landmark in ``marks``,
+    as evenly spaced as that allows: each gap between landmarks takes rings in turn, the one
+    whose spacing is widest first (all the landmarks, if there are more than ``rings``)."""
+    anchors = np.unique(np.clip([bottom, top, *marks], bottom, top))
+    gaps = np.diff(anchors)
+    inside = np.zeros(gaps.size, dtype=int)
+    for _ in range(max(rings - anchors.size, 0)):
+        inside[np.argmax(gaps / (inside + 1))] += 1
+    parts = [
+        np.linspace(low, low + gap, n + 1, endpoint=False)
+        for low, gap, n in zip(anchors, gaps, inside, strict=False)
+    ]
+    return np.concatenate([*parts, anchors[-1:]])
+
+
 def torso_mesh(
     chart: SizeChart, around: int = 128, rings: int = 120
 ) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
     """Vertices ((V, 3), m, z up, front towards +y) and outward faces ((F, 3)) of the torso.
 
-    ``around`` points on each of about ``rings`` rings (plus the landmark heights), quads split
-    in a checkerboard of diagonals: with ``around`` a multiple of 4 the mesh is left-right
-    symmetric, as the torso is.
+    ``around`` points on each of ``rings`` rings, as evenly spaced as rings at every landmark
+    height allow (their girths are the chart's; rings added at the landmarks to a uniform set
+    left slivers 3 mm high among 19 mm rings, where 1 mm of vertex noise makes slopes of 0.3,
+    right on the girth lines); quads split in a checkerboard of diagonals: with ``around`` a
+    multiple of 4 the mesh is left-right symmetric, as the torso is.
     """
     if around < 8 or rings < 8:
         raise InputError("the torso needs at least 8 points around and 8 rings", field="torso")
     girth, depth, front = _profiles(chart)
     bottom, top = chart.height["bottom"], chart.height["top"]
-    heights = np.union1d(np.linspace(bottom, top, rings), [chart.height[k] for k in LANDMARKS])
+    heights = _ring_heights(bottom, top, rings, [chart.height[k] for k in LANDMARKS])
     angle = 2 * np.pi * np.arange(around) / around
     ring_list = []
     for z in heights:
