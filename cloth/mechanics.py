@@ -129,7 +129,10 @@ def _edges(x: ArrayLike, grid: Grid) -> tuple[NDArray[np.float64], NDArray[np.fl
 def spring_state(x: ArrayLike, grid: Grid) -> SpringState:
     """Kinematics and stress of every spring at positions ``x`` ((N, 3) float, m)."""
     edge, length = _edges(x, grid)
-    direction = edge / length[:, None]
+    # a spring of zero length (a line-search trial folding two nodes onto one point) has NaN
+    # direction, and the solvers refuse that state; that is not worth a warning to the user
+    with np.errstate(invalid="ignore", divide="ignore"):
+        direction = edge / length[:, None]
     strain = length / grid.rest_length - 1.0
     stress = np.empty_like(strain)
     tangent = np.empty_like(strain)
