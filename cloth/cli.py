@@ -90,13 +90,18 @@ def _body_torso(args: argparse.Namespace) -> int:
     return 0
 
 
+def _fit_options(args: argparse.Namespace):  # -> FitOptions (imported late: startup time)
+    from cloth.bodies.surface import FitOptions
+
+    return FitOptions(args.smoothing, args.spacing, args.refine, args.denoise)
+
+
 def _body_check(args: argparse.Namespace) -> int:
     from cloth.bodies.check import describe
-    from cloth.bodies.surface import FitOptions
 
     lines = describe(
         args.mesh, args.units, args.up, args.repair, args.levels, args.surface,
-        FitOptions(args.smoothing, args.spacing, args.refine), args.curvature, args.surface_file,
+        _fit_options(args), args.curvature, args.surface_file,
     )  # fmt: skip
     print("\n".join(lines))
     return 0
@@ -104,11 +109,10 @@ def _body_check(args: argparse.Namespace) -> int:
 
 def _body_fit(args: argparse.Namespace) -> int:
     from cloth.bodies.mesh import MeshBody
-    from cloth.bodies.surface import FitOptions
     from cloth.bodies.surfacefile import load_or_fit
 
     mesh = MeshBody.load(args.mesh, args.units, args.up, args.repair, allow_holes=True)
-    load_or_fit(mesh, FitOptions(args.smoothing, args.spacing, args.refine), args.output)
+    load_or_fit(mesh, _fit_options(args), args.output)
     return 0
 
 
@@ -358,6 +362,12 @@ def _mesh_options(parser: argparse.ArgumentParser) -> None:
         type=int,
         help="times each triangle is split along curved patches before the fit (default: "
         "until the facets are 8 mm wide, at most 3; 0: never)",
+    )
+    parser.add_argument(
+        "--denoise",
+        action=argparse.BooleanOptionalAction,
+        help="filter the vertices along their normals before the fit (default: where they "
+        "scatter like noise)",
     )
 
 

@@ -54,7 +54,9 @@ def describe(
         lines += [
             f"smooth surface: sigma {fit.smoothing * 1e3:.3g} mm, grid {fit.spacing * 1e3:.3g} mm "
             f"(creases {fit.crease_spacing * 1e3:.3g} mm apart, the mesh refined "
-            f"{fit.refine_levels} times); {fitted.record()['file']}",
+            f"{fit.refine_levels} times"
+            + (f", denoised first: {fit.denoise_move * 1e3:.3g} mm RMS" if fit.denoise_move else "")
+            + f"); {fitted.record()['file']}",
             f"vertices from the smooth surface: max {fit.deviation_max * 1e3:.3g} mm, "
             f"RMS {fit.deviation_rms * 1e3:.3g} mm, mean {fit.deviation_mean * 1e3:+.3g} mm "
             "(positive: the surface lies inside the mesh)",

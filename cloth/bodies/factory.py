@@ -33,7 +33,10 @@ def body_from_config(block: dict, base_dir: str | Path = ".") -> tuple[Body, dic
         ref.update(kind="mesh", path=str(path), sha256=sha256(path))
         body: Body = mesh
         if smooth:
-            options = FitOptions(block.get("smoothing"), block.get("spacing"), block.get("refine"))
+            options = FitOptions(
+                block.get("smoothing"), block.get("spacing"), block.get("refine"),
+                block.get("denoise"),
+            )  # fmt: skip
             surface_file = block.get("surface_file")
             if surface_file is not None:
                 surface_file = resolve(surface_file, base_dir)

@@ -73,6 +73,7 @@ def write_surface(fit: SurfaceFit, path: str | Path, source: str = "") -> Path:
         key=fit.key,
         mesh_source=source,
         refine_levels=int(fit.refine_levels),
+        denoise_move_m=float(fit.denoise_move),
         **{f"{name}_m": float(getattr(fit, name)) for name in _LENGTHS},
     )
     path = Path(path)
@@ -88,6 +89,7 @@ def read_surface(path: str | Path) -> SurfaceFit:
     return SurfaceFit(
         field=spline, key=str(ds.attrs["key"]),
         refine_levels=int(ds.attrs.get("refine_levels", 0)),
+        denoise_move=float(ds.attrs.get("denoise_move_m", 0.0)),
         **{name: float(ds.attrs[f"{name}_m"]) for name in _LENGTHS},
     )  # fmt: skip
 
@@ -111,7 +113,7 @@ def smooth_body(
     """The smooth body of ``mesh``; its surface, at the first query, is read from ``path``
     (default: the cache, keyed by `mesh_key`) when that holds this mesh's fit with these
     options, else fitted and written there (`load_or_fit`)."""
-    return SmoothMeshBody(mesh, lambda: load_or_fit(mesh, options, path, progress))
+    return SmoothMeshBody(mesh, lambda: load_or_fit(mesh, options, path, progress), options.denoise)
 
 
 def load_or_fit(
