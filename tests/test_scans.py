@@ -18,7 +18,7 @@ from cloth.solvers.common import body_push, pushing
 from cloth.solvers.newton import entering
 from cloth.solvers.problem import Problem
 from cloth.state import FREE, SLIDING
-from tests.conftest import capped_cylinder, write_obj
+from tests.conftest import assert_quadratic_tail, capped_cylinder, write_obj
 from tests.test_relax import solve, tube
 
 #: The garment of the comparison: every girth line lies inside it, none on an edge row (whose
@@ -103,8 +103,7 @@ def test_torso_mesh_converges_and_presses_like_the_smooth_torso(
     assert result.converged
     residual = np.asarray(result.history.residual)
     assert residual[-1] <= 1e-8
-    small = np.flatnonzero(residual[:-1] < 1e-3)
-    assert residual[-1] <= 10 * residual[small[-1]] ** 2  # quadratic at the end
+    assert_quadratic_tail(residual)
     assert abs(result.final.turning) <= TURNING_SHARE * result.final.typical
     assert state.body["surface"]["kind"] == "smooth"
     assert 0 < state.body["surface"]["smoothing_m"] <= 0.015
