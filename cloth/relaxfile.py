@@ -9,7 +9,9 @@ skin's friction would carry; `cloth.solvers.problem.turning_gauge`). Global attr
 ``solver_method``, ``solver_converged`` (0/1), ``solver_iterations``, ``solver_tolerance``,
 ``solver_residual``, ``solver_linear_solver``, ``solver_seconds``, ``solver_turning_node`` (the
 gauge node's index, -1 for none), ``solver_factorisations`` (linear systems factorised by the
-run) and ``solver_peak_memory_mib`` (the process's peak resident memory at its end, MiB).
+run, coarse levels included), ``solver_continuation`` (0/1) and ``solver_coarsest`` (its
+coarsest level's node limit), and ``solver_peak_memory_mib`` (the process's peak resident
+memory at its end, MiB). ``solver_iterations`` and the history are the requested grid's.
 """
 
 from __future__ import annotations
@@ -81,6 +83,8 @@ def relaxed_dataset(
             "solver_seconds": float(seconds),
             "solver_turning_node": -1 if gauge is None else int(gauge),
             "solver_factorisations": int(factorisations),
+            "solver_continuation": int(settings.continuation),
+            "solver_coarsest": int(settings.coarsest),
             "solver_peak_memory_mib": float(peak_memory) / 2**20,
         },
     )

@@ -60,6 +60,11 @@ class Settings:
         Log a line every this many iterations (0: never).
     progress : bool or None
         tqdm progress bar; None = only when stderr is a terminal.
+    continuation : bool
+        Start from the equilibrium of coarser grids of the same pattern
+        (`cloth.solvers.continuation`).
+    coarsest : int
+        With continuation: coarsen until at most this many nodes.
     """
 
     method: str = "newton"
@@ -69,6 +74,8 @@ class Settings:
     warm_start: int = 20
     log_every: int = 10
     progress: bool | None = None
+    continuation: bool = False
+    coarsest: int = 5000
 
     def __post_init__(self) -> None:
         if self.method not in METHODS:

@@ -64,11 +64,15 @@ def relax(state: State, body: Body, settings: Settings) -> Result:
 
     Raises `Diverged` (with the last finite positions and the history) on NaN or energy growth.
     """
+    start = time.perf_counter()
+    factorised = factorisations()
+    if settings.continuation:
+        from cloth.solvers.continuation import start_from_coarse
+
+        state = start_from_coarse(state, body, settings)
     problem = Problem.of(state, body)
     solver = choose(settings.linear_solver) if settings.method != "explicit" else "none"
     history = History()
-    start = time.perf_counter()
-    factorised = factorisations()
     ev = problem.evaluate(problem.project_out(state.x))
     _record(history, problem, ev, 0.0, 0)
     peak = max(ev.energy, 1e-300)

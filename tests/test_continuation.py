@@ -1,0 +1,62 @@
+"""Coarse-to-fine continuation reaches the equilibrium plain Newton reaches, in fewer fine steps."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from cloth.bodies import body_from_config
+from cloth.grid import WARP, WEFT
+from cloth.predeform import predeform
+from cloth.solvers import Settings, relax
+from cloth.solvers.continuation import coarse_state, levels
+from tests.conftest import assert_quadratic_tail
+
+TORSO = {"torso": {"size": "M"}}
+ELLIPSE = {"elliptic_cylinder": {"a": 0.15, "b": 0.10, "bottom": 0.0, "top": 0.5}}
+
+
+def state_on(body: dict, grid: list[int], bottom: float, top: float):
+    garment = {"bottom": bottom, "top": top, "reduction": 0.15, "grid": grid, "edges": "sliding"}
+    return predeform({"material": "powernet", "body": body, "garment": garment})
+
+
+def test_a_coarse_level_is_the_same_pattern():
+    """Each coarse row keeps its fine row's rest circumference and height: its weft springs'
+    rest lengths sum to the fine row's, its warp springs span the fine rows between."""
+    state = state_on(TORSO, [96, 48], 0.80, 1.25)
+    assert [(n, rows.size) for n, rows in levels(state.grid, 1500)] == [(48, 24)]
+    around, rows = levels(state.grid, 1500)[0]
+    coarse = coarse_state(state, around, rows)
+    fine, grid = state.grid, coarse.grid
+    fine_rows = fine.rest_length[fine.family_slices[WEFT]].reshape(fine.m, fine.n).sum(axis=1)
+    coarse_rows = grid.rest_length[grid.family_slices[WEFT]].reshape(grid.m, grid.n).sum(axis=1)
+    np.testing.assert_allclose(coarse_rows, fine_rows[rows], rtol=1e-14)
+    fine_height = fine.rest_length[fine.family_slices[WARP]].reshape(fine.m - 1, fine.n)[:, 0]
+    coarse_height = grid.rest_length[grid.family_slices[WARP]].reshape(grid.m - 1, grid.n)[:, 0]
+    np.testing.assert_allclose(coarse_height.sum(), fine_height.sum(), rtol=1e-14)
+    assert rows[0] == 0 and rows[-1] == fine.m - 1  # the edge rows and their constraints
+    np.testing.assert_array_equal(coarse.constraint[: grid.n], state.constraint[0])
+
+
+@pytest.mark.parametrize(
+    ("body", "grid", "bottom", "top", "coarsest"),
+    [(TORSO, [96, 48], 0.80, 1.25, 1500), (ELLIPSE, [128, 24], 0.1, 0.4, 800)],
+    ids=["torso", "ellipse"],
+)
+def test_continuation_reaches_the_same_equilibrium(body, grid, bottom, top, coarsest):
+    """To relative residual 1e-10, with and without continuation: positions within 1e-9 m,
+    the last steps quadratic, and fewer Newton iterations on the fine grid (torso 96 x 48:
+    measured 13 plain, 8 after one coarse level)."""
+    state = state_on(body, grid, bottom, top)
+    solid, _ = body_from_config(state.case["body"])
+    results = {}
+    for continued in (False, True):
+        settings = Settings(tolerance=1e-10, max_iterations=60, progress=False, log_every=0,
+                            continuation=continued, coarsest=coarsest)  # fmt: skip
+        results[continued] = relax(state, solid, settings)
+        assert results[continued].converged
+        assert_quadratic_tail(results[continued].history.residual)
+    gap = np.abs(results[True].final.x - results[False].final.x).max()
+    assert gap < 1e-9
+    assert results[True].iterations < results[False].iterations
