@@ -8,14 +8,14 @@ BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 CORES ?= all
 CONFIG ?= config/config.yaml
-# optional extras tried after the required ones (`make test OPTIONAL=cholmod`); one that does
-# not install is reported and its tests skip
+# optional extras tried one by one after the required ones (`make test OPTIONAL="cholmod
+# cluster"`); one that does not install is reported and its tests skip
 OPTIONAL ?=
 # The Snakemake rules call the `cloth` CLI: put the venv first on PATH for them.
 export PATH := $(CURDIR)/$(BIN):$(PATH)
 export MPLBACKEND := Agg
 
-.PHONY: run test test-slow lint unit pipeline-test bench clean install
+.PHONY: run test test-slow test-cluster lint unit pipeline-test bench clean install
 
 install: $(STAMP)
 
@@ -23,7 +23,7 @@ $(STAMP): pyproject.toml
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
 	$(BIN)/python -m pip install --quiet -e '.[test,dev]'
-	$(if $(OPTIONAL),$(BIN)/python -m pip install --quiet -e '.[$(OPTIONAL)]' || echo "make: the extras $(OPTIONAL) did not install; their tests skip" >&2)
+	$(foreach extra,$(OPTIONAL),$(BIN)/python -m pip install --quiet -e '.[$(extra)]' || echo "make: the extra $(extra) did not install; its tests skip" >&2;)
 	touch $(STAMP)
 
 run: $(STAMP)
@@ -43,6 +43,12 @@ test: lint unit
 # the minutes-long acceptance cases (mesh bodies at full size); not part of CI's make test
 test-slow: $(STAMP)
 	$(BIN)/python -m pytest -q -m slow
+
+# the pipeline through a single-node SLURM started by the test (root, Debian's slurmctld, slurmd
+# and munge; the cluster extra); skipped with one line where it cannot start
+test-cluster: $(STAMP)
+	$(BIN)/python -m pip install --quiet -e '.[cluster]'
+	$(BIN)/python -m pytest -q -rs -m cluster
 
 bench: $(STAMP)
 	$(BIN)/python -m pip install --quiet -e '.[bench]'

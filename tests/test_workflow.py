@@ -3,9 +3,7 @@
 from __future__ import annotations
 
 import json
-import shutil
 import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -13,31 +11,7 @@ import pytest
 import xarray as xr
 import yaml
 
-ROOT = Path(__file__).resolve().parents[1]
-SNAKEMAKE = Path(sys.executable).with_name("snakemake")
-
-
-def workspace(tmp_path: Path) -> Path:
-    """A copy of the pipeline's files, so runs never touch the checkout's results/."""
-    for name in ("Snakefile", "workflow", "config", "data"):
-        source = ROOT / name
-        if source.is_dir():
-            shutil.copytree(source, tmp_path / name)
-        else:
-            shutil.copy(source, tmp_path / name)
-    return tmp_path
-
-
-def snakemake(where: Path, *args: str) -> subprocess.CompletedProcess:
-    env_path = f"{Path(sys.executable).parent}:{__import__('os').environ.get('PATH', '')}"
-    return subprocess.run(
-        [str(SNAKEMAKE), "--cores", "2", *args],
-        cwd=where,
-        capture_output=True,
-        text=True,
-        env={**__import__("os").environ, "PATH": env_path, "MPLBACKEND": "Agg"},
-        timeout=600,
-    )
+from tests.pipeline import ROOT, SNAKEMAKE, environment, snakemake, workspace
 
 
 def test_default_config_dry_run(tmp_path):
@@ -81,9 +55,8 @@ def test_bad_config_stops_before_any_job(tmp_path, mutate, expected):
     assert not (where / "results").exists()
 
 
-def test_tiny_pipeline_end_to_end(tmp_path):
-    where = workspace(tmp_path)
-    result = snakemake(where, "--configfile", "config/ci.yaml")
+def test_tiny_pipeline_end_to_end(tiny_run):
+    where, result, _ = tiny_run
     assert result.returncode == 0, result.stderr[-3000:]
     with xr.open_dataset(where / "results/materials/powernet.nc") as material:
         knots = material["weft_knot_stress"].values
@@ -130,8 +103,8 @@ def test_tiny_pipeline_end_to_end(tmp_path):
     assert record["status"] == "ok" and 0.1 < float(record["reduction"]) < 0.2
     # two swept reductions, linear interpolation of a convex curve: within 5 % of the target
     assert abs(float(record["error_percent"])) < 5
-    # 48 around, 30 rings plus the 4 landmark rings, and the two caps
-    assert "faces: 3264" in (where / "results/bodies/small.txt").read_text()
+    # 48 around, 30 rings (the landmarks among them), and the two caps: 48 x 29 x 2 + 2 x 48
+    assert "faces: 2880" in (where / "results/bodies/small.txt").read_text()
     report = snakemake(where, "--configfile", "config/ci.yaml", "--report", "report.html")
     assert report.returncode == 0, report.stderr[-2000:]
     assert (where / "report.html").stat().st_size > 100_000
@@ -175,8 +148,7 @@ def test_a_killed_run_leaves_no_corrupt_output_and_resumes(tmp_path):
     import time
 
     where = workspace(tmp_path)
-    env_path = f"{Path(sys.executable).parent}:{os.environ.get('PATH', '')}"
-    env = {**os.environ, "PATH": env_path, "MPLBACKEND": "Agg"}
+    env = environment()
     process = subprocess.Popen(
         [str(SNAKEMAKE), "--cores", "2", "--configfile", "config/ci.yaml"],
         cwd=where, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,

@@ -16,6 +16,9 @@ rule aggregate:
         "logs/aggregate/{case}.log",
     conda:
         "../envs/cloth.yaml"
+    resources:
+        mem_mb=case_resource("aggregate", "mem_mb"),
+        runtime=case_resource("aggregate", "runtime"),
     params:
         cloth_version=CLOTH_VERSION,
     shell:

@@ -29,6 +29,9 @@ rule body_surface:
         "logs/body_surface/{body}.log",
     conda:
         "../envs/cloth.yaml"
+    resources:
+        mem_mb=SURFACE_RESOURCES.mem_mb,
+        runtime=SURFACE_RESOURCES.runtime,
     params:
         flags=surface_flags,
         cloth_version=CLOTH_VERSION,

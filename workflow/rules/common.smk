@@ -5,6 +5,7 @@ import shlex
 from cloth import __version__ as CLOTH_VERSION
 from cloth.config import validate_case
 from cloth.errors import InputError
+from cloth.resources import stage_resources, surface_resources
 
 
 wildcard_constraints:
@@ -288,3 +289,30 @@ def all_outputs():
             case=sorted(CASES),
         )
     )
+
+
+def case_resource(stage, name):
+    """A rule's ``resources:`` entry: ``name`` (mem_mb, MB, or runtime, minutes) that
+    ``stage`` of the job's case asks a cluster for (cloth/resources.py). A confirmation case
+    of the design asks what the largest sweep case asks (its block is read from the design
+    checkpoint, which a cluster job of this rule cannot see)."""
+
+    def value(wildcards):
+        if wildcards.case in CASES:
+            blocks = [CASES[wildcards.case]]
+        else:
+            blocks = list(SWEEP_BLOCKS.values()) or [case_block(wildcards.case)]
+        return max(getattr(stage_resources(stage, block), name) for block in blocks)
+
+    return value
+
+
+def design_answer(wildcards):
+    """The design checkpoint's answer, for a confirmation case whose block is read from it (a
+    cluster job needs it as an input to see it); nothing for the other cases."""
+    if wildcards.case in CASES:
+        return []
+    return checkpoints.design.get().output[0]
+
+
+SURFACE_RESOURCES = surface_resources()

@@ -26,6 +26,9 @@ rule figures:
         "logs/figures/{case}.log",
     conda:
         "../envs/cloth.yaml"
+    resources:
+        mem_mb=case_resource("figures", "mem_mb"),
+        runtime=case_resource("figures", "runtime"),
     params:
         folder=lambda wildcards: f"results/cases/{wildcards.case}/figures",
         cloth_version=CLOTH_VERSION,

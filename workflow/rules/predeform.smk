@@ -2,6 +2,8 @@
 
 
 rule write_case:
+    input:
+        design_answer,
     output:
         "results/cases/{case}/case.yaml",
     log:
@@ -34,6 +36,9 @@ rule predeform:
         "benchmarks/results/predeform/{case}.tsv"
     conda:
         "../envs/cloth.yaml"
+    resources:
+        mem_mb=case_resource("predeform", "mem_mb"),
+        runtime=case_resource("predeform", "runtime"),
     params:
         cloth_version=CLOTH_VERSION,
     shell:

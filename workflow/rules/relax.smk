@@ -13,6 +13,9 @@ rule relax:
     conda:
         "../envs/cloth.yaml"
     threads: 2
+    resources:
+        mem_mb=case_resource("relax", "mem_mb"),
+        runtime=case_resource("relax", "runtime"),
     params:
         cloth_version=CLOTH_VERSION,
     shell:
