@@ -11,8 +11,8 @@ the model:
                                               coefficients and the mesh)
     runtime = 1 minute + seconds(N) / 60,   seconds(N) = reference x (N / reference_nodes)^p
 
-Measured: relax 243 / 348 / 615 MiB at 1k / 18k / 41k nodes (213 MiB + 9.3 MiB per 1000
-nodes); predeform and aggregate 250-270 MiB at any grid. Relax's time grows as N^1.3 (the
+Measured: relax 256 / 349 / 1035 MiB at 1k / 18k / 74k nodes (197 MiB + 11.2 MiB per 1000
+nodes); predeform and aggregate 250-290 MiB at any grid. Relax's time grows as N^1.3 (the
 sparse factorisations; 147 s at 73,728 nodes with SuperLU, docs/performance.md); the other
 stages take a few seconds. The fit of a mesh body's surface (rule ``body_surface``) is bounded
 by the fit's own cap on grid samples (`cloth.bodies.surface.MAX_SAMPLES`: about 3 GiB).
@@ -30,7 +30,7 @@ MESH_MB = 1500
 #: Per stage: base MB, MB per node, seconds at REFERENCE_NODES, exponent p (module docstring).
 MODEL = {
     "predeform": (270.0, 0.002, 5.0, 1.0),
-    "relax": (215.0, 0.0095, 147.0, 1.3),
+    "relax": (215.0, 0.012, 147.0, 1.3),
     "aggregate": (260.0, 0.002, 3.0, 1.0),
     "figures": (300.0, 0.004, 10.0, 1.0),
 }

@@ -60,3 +60,22 @@ def test_continuation_reaches_the_same_equilibrium(body, grid, bottom, top, coar
     gap = np.abs(results[True].final.x - results[False].final.x).max()
     assert gap < 1e-9
     assert results[True].iterations < results[False].iterations
+
+
+def test_a_coarse_level_that_diverges_leaves_the_fine_start_as_it_was(monkeypatch):
+    """A coarse level that fails is no reason to fail the run: the fine grid then starts from
+    its own positions, as without continuation."""
+    import importlib
+
+    from cloth.solvers.common import Diverged, History
+    from cloth.solvers.continuation import start_from_coarse
+
+    state = state_on(TORSO, [96, 48], 0.80, 1.25)
+
+    def diverge(level, body, settings):
+        raise Diverged("the energy grew", level.x, History())
+
+    # the module, not the function cloth.solvers exports under the same name
+    monkeypatch.setattr(importlib.import_module("cloth.solvers.relax"), "relax", diverge)
+    settings = Settings(progress=False, continuation=True, coarsest=1500)
+    assert start_from_coarse(state, body_from_config(TORSO)[0], settings) is state

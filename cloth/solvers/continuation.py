@@ -106,6 +106,7 @@ def uniform_rows(state: State) -> bool:
 def start_from_coarse(state: State, body: Body, settings) -> State:
     """``state`` with its positions from the equilibrium of its coarse levels (module
     docstring); unchanged where it has none. ``settings``: the fine run's `Settings`."""
+    from cloth.solvers.common import Diverged
     from cloth.solvers.relax import relax
 
     found = levels(state.grid, settings.coarsest) if uniform_rows(state) else []
@@ -123,7 +124,15 @@ def start_from_coarse(state: State, body: Body, settings) -> State:
         start = time.perf_counter()
         if x is not None:
             level = level.with_positions(keep_constraints(interpolate(x, grid, level.grid), level))
-        result = relax(level, body, coarse)
+        try:
+            result = relax(level, body, coarse)
+        except Diverged as failure:
+            log.warning(
+                "continuation: the %d x %d level diverged (%s); the %d x %d grid starts from "
+                "its own positions", level.grid.n, level.grid.m, failure, state.grid.n,
+                state.grid.m,
+            )  # fmt: skip
+            return state
         log.info(
             "continuation: %d x %d relaxed in %d iterations (residual %.2e), %.2f s",
             level.grid.n, level.grid.m, result.iterations, result.final.residual,
