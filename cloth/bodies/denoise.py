@@ -41,7 +41,7 @@ import logging
 import numpy as np
 from numpy.typing import NDArray
 
-from cloth.bodies.tessellation import roughness
+from cloth.bodies.tessellation import roughness, vertex_adjacency
 
 log = logging.getLogger(__name__)
 
@@ -89,10 +89,7 @@ def denoise(
     mesh = trimesh.Trimesh(vertices, faces, process=False)
     edges, lengths = mesh.edges_unique, mesh.edges_unique_length
     count = len(vertices)
-    adjacency = sp.coo_matrix(
-        (np.ones(2 * len(edges)), (edges.ravel(), edges[:, ::-1].ravel())), shape=(count, count)
-    ).tocsr()
-    degree = np.asarray(adjacency.sum(axis=1)).ravel()
+    adjacency, degree = vertex_adjacency(edges, count)
     used = degree > 0
     degree = np.maximum(degree, 1.0)
     umbrella = (sp.diags(1.0 / degree) @ adjacency - sp.diags(used.astype(float))).tocsr()

@@ -47,19 +47,24 @@ def crease_spacing(vertices: NDArray[np.float64], faces: NDArray[np.intp]) -> fl
     return float(width[good][order][np.searchsorted(cumulative, 0.5 * cumulative[-1])])
 
 
-def roughness(vertices: NDArray[np.float64], faces: NDArray[np.intp]) -> tuple[float, float]:
-    """(scatter, flatness), m: the median scatter of the vertices about a smooth surface and
-    the median flatness error of the facets (module docstring)."""
+def vertex_adjacency(edges: NDArray[np.intp], count: int):
+    """The symmetric vertex adjacency (CSR, ones) of ``count`` vertices joined by ``edges``
+    ((E, 2), each edge once), and each vertex's number of neighbours ((count,) float)."""
     import scipy.sparse as sp
-    import trimesh
 
-    mesh = trimesh.Trimesh(vertices, faces, process=False)
-    edges = mesh.edges_unique
-    count = len(vertices)
     adjacency = sp.coo_matrix(
         (np.ones(2 * len(edges)), (edges.ravel(), edges[:, ::-1].ravel())), shape=(count, count)
     ).tocsr()
-    neighbours = np.asarray(adjacency.sum(axis=1)).ravel()
+    return adjacency, np.asarray(adjacency.sum(axis=1)).ravel()
+
+
+def roughness(vertices: NDArray[np.float64], faces: NDArray[np.intp]) -> tuple[float, float]:
+    """(scatter, flatness), m: the median scatter of the vertices about a smooth surface and
+    the median flatness error of the facets (module docstring)."""
+    import trimesh
+
+    mesh = trimesh.Trimesh(vertices, faces, process=False)
+    adjacency, neighbours = vertex_adjacency(mesh.edges_unique, len(vertices))
     used = neighbours > 0
     degree = np.maximum(neighbours, 1.0)
     umbrella = adjacency @ vertices / degree[:, None] - vertices

@@ -27,16 +27,22 @@ from __future__ import annotations
 
 import logging
 import time
+from collections.abc import Callable
 from dataclasses import replace
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
 from cloth.bodies import Body
 from cloth.grid import WEFT, Grid, build_grid
+from cloth.solvers.common import Diverged, Settings
 from cloth.state import FIXED, SLIDING, State, grid_fabric
 
 log = logging.getLogger(__name__)
+
+#: relax(state, body, settings) -> a result with ``final.x``, ``final.residual``, ``iterations``
+Relax = Callable[[State, Body, Settings], Any]
 
 #: Relative residual the coarse levels are relaxed to.
 COARSE_TOLERANCE = 1e-6
@@ -103,11 +109,10 @@ def uniform_rows(state: State) -> bool:
     return bool(grid.closed) and bool(np.all(by_row == by_row[:, :1]))
 
 
-def start_from_coarse(state: State, body: Body, settings) -> State:
+def start_from_coarse(state: State, body: Body, settings: Settings, relax: Relax) -> State:
     """``state`` with its positions from the equilibrium of its coarse levels (module
-    docstring); unchanged where it has none. ``settings``: the fine run's `Settings`."""
-    from cloth.solvers.common import Diverged
-    from cloth.solvers.relax import relax
+    docstring); unchanged where it has none. ``settings``: the fine run's; ``relax``: how a
+    level is relaxed (`cloth.solvers.relax.relax`, which calls this)."""
 
     found = levels(state.grid, settings.coarsest) if uniform_rows(state) else []
     if not found:

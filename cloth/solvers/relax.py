@@ -13,6 +13,7 @@ from tqdm import tqdm
 
 from cloth.bodies import Body
 from cloth.solvers.common import Diverged, History, Settings
+from cloth.solvers.continuation import start_from_coarse
 from cloth.solvers.explicit import MAX_STEP, explicit_step, shortest_rest
 from cloth.solvers.linear import choose, factorisations
 from cloth.solvers.newton import newton_step
@@ -67,9 +68,7 @@ def relax(state: State, body: Body, settings: Settings) -> Result:
     start = time.perf_counter()
     factorised = factorisations()
     if settings.continuation:
-        from cloth.solvers.continuation import start_from_coarse
-
-        state = start_from_coarse(state, body, settings)
+        state = start_from_coarse(state, body, settings, relax)
     problem = Problem.of(state, body)
     solver = choose(settings.linear_solver) if settings.method != "explicit" else "none"
     history = History()
