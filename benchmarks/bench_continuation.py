@@ -1,14 +1,14 @@
 """Coarse-to-fine continuation against plain Newton, side by side (docs/performance.md).
 
 Torso M (the smooth parametric torso), power net, 15 % reduction, 0.80-1.25 m, sliding edges,
-Newton to relative residual 1e-8 with the linear solver ``--solver`` (auto: the fastest
-installed), plain and with continuation (coarsest level at most ``--coarsest`` nodes). Wall
-time (median of ``--repeat`` runs, alternating the two), Newton iterations on the fine grid,
-the run's factorisations (all levels), and the largest position difference between the two
-equilibria. Writes the table into docs/performance.md (section ``continuation``). Run:
+Newton to relative residual ``--tolerance`` (1e-8) with the linear solver ``--solver`` (auto:
+the fastest installed), plain and with continuation (coarsest level at most ``--coarsest``
+nodes). Wall time (median of ``--repeat`` runs, alternating the two), Newton iterations on
+the fine grid, the run's factorisations (all levels), and the largest position difference
+between the two equilibria. Writes the table into docs/performance.md (section ``continuation``). Run:
 
     .venv/bin/python benchmarks/bench_continuation.py [--grids 192x96 384x192 448x224]
-        [--coarsest 5000] [--solver auto] [--repeat 1]
+        [--coarsest 5000] [--solver auto] [--repeat 1] [--tolerance 1e-8] [--no-write]
 """
 
 from __future__ import annotations
@@ -32,6 +32,8 @@ def main() -> None:
     parser.add_argument("--coarsest", type=int, default=5000)
     parser.add_argument("--solver", default="auto")
     parser.add_argument("--repeat", type=int, default=1)
+    parser.add_argument("--tolerance", type=float, default=1e-8)
+    parser.add_argument("--no-write", action="store_true", help="print, leave the docs alone")
     args = parser.parse_args()
     rows = []
     for grid in args.grids:
@@ -44,7 +46,7 @@ def main() -> None:
         }  # fmt: skip
         state = predeform(case)
         body, _ = body_from_config(state.case["body"])
-        plain = Settings(tolerance=1e-8, max_iterations=100, progress=False, log_every=0,
+        plain = Settings(tolerance=args.tolerance, max_iterations=100, progress=False, log_every=0,
                          linear_solver=args.solver, coarsest=args.coarsest)  # fmt: skip
         times: dict[bool, list[float]] = {False: [], True: []}
         last = {}
@@ -74,7 +76,8 @@ def main() -> None:
         f"{args.repeat} run(s) each, medians, on {platform.machine()}, 2 cores; coarsest level "
         f"at most {args.coarsest:,} nodes."
     )
-    replace_section("continuation", note + "\n\n" + table)
+    if not args.no_write:
+        replace_section("continuation", note + "\n\n" + table)
 
 
 if __name__ == "__main__":
