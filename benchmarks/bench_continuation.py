@@ -5,7 +5,8 @@ Newton to relative residual ``--tolerance`` (1e-8) with the linear solver ``--so
 the fastest installed), plain and with continuation (coarsest level at most ``--coarsest``
 nodes). Wall time (median of ``--repeat`` runs, alternating the two), Newton iterations on
 the fine grid, the run's factorisations (all levels), and the largest position difference
-between the two equilibria. Writes the table into docs/performance.md (section ``continuation``). Run:
+between the two equilibria. Writes the table into docs/performance.md (section
+``continuation``) unless ``--no-write``. Run:
 
     .venv/bin/python benchmarks/bench_continuation.py [--grids 192x96 384x192 448x224]
         [--coarsest 5000] [--solver auto] [--repeat 1] [--tolerance 1e-8] [--no-write]
