@@ -271,11 +271,9 @@ def _aggregate(args: argparse.Namespace) -> int:
 
 
 def _plot(args: argparse.Namespace) -> int:
-    from cloth.io import read_netcdf
-    from cloth.plots import plot_result
+    from cloth.stages import figures
 
-    ds = read_netcdf(args.result, "result", ("stress_weft", "pressure", "u", "v"))
-    plot_result(ds, args.output, args.stress_range, args.pressure_range)
+    figures(args.result, args.output, args.peers, args.stress_range, args.pressure_range)
     return 0
 
 
@@ -301,6 +299,19 @@ def _sweep(args: argparse.Namespace) -> int:
     rows = sweep_rows(ds)
     write_rows(rows, args.csv, list(rows[0]) if rows else ["material"])
     plot_design(ds, targets, args.plot)
+    if args.body_plot:
+        from cloth.io import read_netcdf
+        from cloth.onbody import plot_sweep_on_body
+
+        several = len({entry["material"] for entry in index}) > 1
+        cases = [
+            (
+                f"{e['material']}, {e['body']}" if several else e["body"], float(e["reduction"]),
+                read_netcdf(args.root / "results" / "cases" / e["case"] / "result.nc", "result"),
+            )
+            for e in index
+        ]  # fmt: skip
+        plot_sweep_on_body(cases, args.body_plot)
     return 0
 
 
@@ -543,6 +554,11 @@ def build_parser() -> argparse.ArgumentParser:
         "--pressure-range", type=float, nargs=2, metavar=("LOW", "HIGH"),
         help="fixed colour range of the pressure map, mmHg",
     )  # fmt: skip
+    plot.add_argument(
+        "--peers", type=Path, nargs="*", default=[], metavar="RESULT",
+        help="result.nc files (a sweep's) whose values set the colour ranges not given, so "
+        "that the figures of a sweep compare (default: this result's own range)",
+    )  # fmt: skip
     plot.set_defaults(handler=_plot)
 
     exp = commands.add_parser("export", help="result.nc -> .ply, .vtu or .csv")
@@ -558,6 +574,10 @@ def build_parser() -> argparse.ArgumentParser:
     sw.add_argument("-o", "--output", type=Path, required=True, help="sweep.nc to write")
     sw.add_argument("--csv", type=Path, required=True, help="sweep.csv to write")
     sw.add_argument("--plot", type=Path, required=True, help="design plot to write")
+    sw.add_argument(
+        "--body-plot", type=Path,
+        help="small multiples to write: the pressure on the body per body and reduction",
+    )  # fmt: skip
     sw.set_defaults(handler=_sweep)
 
     de = commands.add_parser("design", help="sweep.nc -> design.csv: the reduction per target")

@@ -23,7 +23,6 @@ reduced by `cloth.fitting.fit_monotone` to ``n_knots`` (default `DEFAULT_KNOTS`)
 from __future__ import annotations
 
 import csv
-import hashlib
 import logging
 import math
 import re
@@ -36,6 +35,7 @@ from numpy.typing import NDArray
 
 from cloth.errors import InputError
 from cloth.fitting import FitReport, curve_error, fit_monotone
+from cloth.io import sha256
 from cloth.materials import DIRECTIONS, Fabric, StressStrainCurve
 
 log = logging.getLogger(__name__)
@@ -138,15 +138,6 @@ class _Table:
     header: dict[str, str]
     columns: dict[str, list[str]]
     first_row: int  # 1-based line number of the first data row
-
-
-def sha256(path: str | Path) -> str:
-    """Hex sha256 of a file's bytes."""
-    digest = hashlib.sha256()
-    with open(path, "rb") as handle:
-        for block in iter(lambda: handle.read(1 << 20), b""):
-            digest.update(block)
-    return digest.hexdigest()
 
 
 def _read_csv(path: Path) -> _Table:

@@ -19,11 +19,28 @@ from cloth.materials import DIRECTIONS
 log = logging.getLogger(__name__)
 
 COLOURS = {"weft": "tab:blue", "warp": "tab:orange", "bias": "tab:green"}
+#: Every figure `cloth plot` writes for a case, as ``{name}.png`` in its folder (the rule
+#: ``figures`` imports this list): the flat maps, the garment in 3D before and after, the girth
+#: profiles, convergence, the fabric, and the garment on the body (`cloth.onbody.FIELDS`).
+FIGURES = (
+    "stress_weft",
+    "stress_warp",
+    "pressure",
+    "garment_stress",
+    "garment_stress_initial",
+    "landmarks",
+    "convergence",
+    "material",
+    "body_pressure",
+    "body_stress_weft",
+    "body_stress_warp",
+)
 #: Rings of a closed-form body (or the smooth torso) drawn between the garment's edges.
 BODY_RINGS = 24
 
 
-def _save(fig: plt.Figure, path: str | Path) -> Path:
+def save_figure(fig: plt.Figure, path: str | Path) -> Path:
+    """Write ``fig`` to ``path`` (format from the suffix, 150 dpi) atomically and close it."""
     path = Path(path)
     with atomic_output(path) as tmp:
         fig.savefig(tmp, format=path.suffix.lstrip(".") or "png", dpi=150)
@@ -62,7 +79,7 @@ def plot_material(ds: xr.Dataset, path: str | Path) -> Path:
     ax.legend(fontsize=8)
     ax.set_xlim(left=0)
     ax.set_ylim(bottom=min(0.0, float(np.nanmin(ax.get_ylim()))))
-    return _save(fig, path)
+    return save_figure(fig, path)
 
 
 def _body_triangles(body, z_low: float, z_high: float):
@@ -146,7 +163,7 @@ def plot_garment_3d(
     ax.set_zlim(centre[2] - span, centre[2] + span)
     ax.view_init(elev=15, azim=-60)
     ax.set_title(title, fontsize=10)
-    return _save(fig, path)
+    return save_figure(fig, path)
 
 
 def _status(ds: xr.Dataset) -> str:
@@ -174,7 +191,7 @@ def _flat_map(ds, name, path, scale=1.0, label=None, vmin=None, vmax=None, level
     ax.set_title(
         f"{ds.attrs.get('fabric_name', '')}: {var.attrs['long_name']}{_status(ds)}", fontsize=10
     )
-    return _save(fig, path)
+    return save_figure(fig, path)
 
 
 def plot_result(
@@ -245,7 +262,7 @@ def plot_result(
     ax.grid(alpha=0.3)
     if len(ds["landmark"]):
         ax.legend(fontsize=8)
-    paths.append(_save(fig, folder / "landmarks.png"))
+    paths.append(save_figure(fig, folder / "landmarks.png"))
     fig, ax = plt.subplots(figsize=(6.0, 4.0), layout="constrained")
     if "residual" in ds:
         ax.semilogy(np.arange(ds.sizes["iteration"]), ds["residual"].values, "o-", ms=3)
@@ -257,7 +274,7 @@ def plot_result(
     ax.set_ylabel("relative residual [1]")
     ax.set_title(f"convergence ({ds.attrs.get('solver_method', '')}){_status(ds)}", fontsize=10)
     ax.grid(alpha=0.3, which="both")
-    paths.append(_save(fig, folder / "convergence.png"))
+    paths.append(save_figure(fig, folder / "convergence.png"))
     paths.append(plot_material(ds, folder / "material.png"))
     return paths
 
@@ -289,4 +306,4 @@ def plot_body_field(
     fig.colorbar(shown, ax=axes, shrink=0.8, label=label)
     if title:
         fig.suptitle(title)
-    return _save(fig, path)
+    return save_figure(fig, path)

@@ -61,3 +61,37 @@ def aggregate(relaxed_path: str | Path, base_dir: str | Path = ".") -> tuple[xr.
     result = result.assign(lab_range_variables(state, ev.springs.strain))
     name = Path(relaxed_path).parent.name
     return result, summary_rows(result, name)
+
+
+def figures(
+    result_path: str | Path,
+    folder: str | Path,
+    peers: list[str | Path] | tuple = (),
+    stress_range: tuple[float, float] | None = None,
+    pressure_range: tuple[float, float] | None = None,
+) -> list[Path]:
+    """result.nc -> every figure of `cloth.plots.FIGURES` in ``folder``: the flat maps, the
+    profiles and the garment on the body. Colour ranges: ``stress_range`` (Pa) and
+    ``pressure_range`` (mmHg) where given, else the range over ``peers`` (the result files of
+    the case's sweep, so that its figures compare) and the result itself."""
+    from cloth.io import read_netcdf
+    from cloth.onbody import FIELDS, body_band, field_range, plot_on_body
+    from cloth.plots import plot_result
+
+    ds = read_netcdf(result_path, "result", ("stress_weft", "pressure", "u", "v"))
+    others = [read_netcdf(p, "result", ("stress_weft", "pressure_mmHg")) for p in peers]
+    every = [ds, *others]
+    if stress_range is None:
+        weft, warp = (field_range(every, f"stress_{d}") for d in ("weft", "warp"))
+        stress_range = (min(weft[0], warp[0]), max(weft[1], warp[1]))
+    if pressure_range is None:
+        pressure_range = field_range(every, "pressure_mmHg")
+    paths = plot_result(ds, folder, stress_range, pressure_range)
+    body = body_band(ds)
+    for name, (variable, scale, _) in FIELDS.items():
+        low, high = pressure_range if variable == "pressure_mmHg" else stress_range
+        scale = 1.0 if variable == "pressure_mmHg" else scale
+        paths.append(
+            plot_on_body(ds, name, Path(folder) / f"{name}.png", (low * scale, high * scale), body)
+        )
+    return paths

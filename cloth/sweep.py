@@ -197,7 +197,7 @@ def confirm(design_rows: list[dict[str, str]], root: str | Path = ".") -> list[d
 def plot_design(ds: xr.Dataset, targets: list[dict], path: str | Path) -> Path:
     """Landmark pressure against reduction per fabric and body, with the RAL class bands."""
     from cloth.aggregate import RAL_CLASSES
-    from cloth.plots import _save, plt
+    from cloth.plots import plt, save_figure
 
     landmarks = ds["landmark"].values.tolist()
     fig, axes = plt.subplots(
@@ -224,4 +224,4 @@ def plot_design(ds: xr.Dataset, targets: list[dict], path: str | Path) -> Path:
         ax.grid(alpha=0.3)
     axes[0][0].set_ylabel("mean pressure on the girth line [mmHg]")
     axes[0][-1].legend(fontsize=7)
-    return _save(fig, path)
+    return save_figure(fig, path)

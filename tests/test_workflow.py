@@ -92,7 +92,11 @@ def test_tiny_pipeline_end_to_end(tiny_run):
         assert 300 < waist < 5000  # a 15 % reduction of power net: shapewear range, Pa
     summary = (where / "results/cases/tiny/summary.csv").read_text().splitlines()
     assert len(summary) == 3 and "pressure_mean_mmHg" in summary[0]
-    assert len(list((where / "results/cases/tiny/figures").glob("*.png"))) == 8
+    from cloth.plots import FIGURES
+
+    figures = {f.stem for f in (where / "results/cases/tiny/figures").glob("*.png")}
+    assert figures == set(FIGURES)
+    assert (where / "results/sweep_on_body.png").stat().st_size > 20_000
     with xr.open_dataset(where / "results/sweep.nc") as sweep:
         assert dict(sweep.sizes) == {"material": 1, "body": 1, "reduction": 2, "landmark": 2}
         waist = sweep["pressure_mean"].sel(landmark="waist").values.ravel()

@@ -20,7 +20,7 @@ def body_from_config(block: dict, base_dir: str | Path = ".") -> tuple[Body, dic
     """
     from cloth.bodies.torso import DEFAULT_CHART, SmoothTorso, chart_size, torso_mesh
     from cloth.config import resolve
-    from cloth.labtables import sha256
+    from cloth.io import sha256
 
     ref: dict = {"block": block}
     if "mesh" in block:

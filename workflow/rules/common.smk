@@ -248,6 +248,14 @@ def sweep_results(wildcards):
     return [f"results/cases/{entry['case']}/result.nc" for entry in SWEEP_INDEX]
 
 
+def figure_peers(wildcards):
+    """The results whose values set a case's figure colour ranges: its sweep's (all of them,
+    so that the sweep's figures compare), or none for a case outside the sweep."""
+    if wildcards.case not in SWEEP_BLOCKS:
+        return []
+    return [f"results/cases/{case}/result.nc" for case in sorted(SWEEP_BLOCKS)]
+
+
 def confirmation_results(wildcards):
     from cloth.sweep import confirm_name, read_design
 
@@ -269,6 +277,7 @@ def all_outputs():
     )
     if SWEEP_INDEX:
         sweep += ["results/sweep.nc", "results/sweep.csv", "results/design.png"]
+        sweep.append("results/sweep_on_body.png")
         if config.get("targets"):
             sweep.append("results/design_confirmed.csv")
     return (

@@ -1,20 +1,12 @@
-# Stage 5: result.nc -> figures (stress maps, garment in 3D, pressure, landmarks, convergence).
-
-FIGURES = [
-    "stress_weft",
-    "stress_warp",
-    "pressure",
-    "garment_stress",
-    "garment_stress_initial",
-    "landmarks",
-    "convergence",
-    "material",
-]
+# Stage 5: result.nc -> figures (stress maps, garment in 3D and on the body, pressure,
+# landmarks, convergence; names in cloth.plots.FIGURES), in colour ranges shared by a sweep.
+from cloth.plots import FIGURES
 
 
 rule figures:
     input:
-        "results/cases/{case}/result.nc",
+        result="results/cases/{case}/result.nc",
+        peers=figure_peers,
     output:
         report(
             expand("results/cases/{{case}}/figures/{figure}.png", figure=FIGURES),
@@ -33,4 +25,4 @@ rule figures:
         folder=lambda wildcards: f"results/cases/{wildcards.case}/figures",
         cloth_version=CLOTH_VERSION,
     shell:
-        "cloth plot {input:q} -o {params.folder:q} > {log:q} 2>&1"
+        "cloth plot {input.result:q} --peers {input.peers:q} -o {params.folder:q} > {log:q} 2>&1"

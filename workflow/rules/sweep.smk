@@ -11,6 +11,11 @@ rule sweep:
         png=report(
             "results/design.png", caption="../report/design.rst", category="Sweep"
         ),
+        body=report(
+            "results/sweep_on_body.png",
+            caption="../report/sweep_on_body.rst",
+            category="Sweep",
+        ),
     log:
         "logs/sweep.log",
     conda:
@@ -21,7 +26,7 @@ rule sweep:
         cloth_version=CLOTH_VERSION,
     shell:
         "cloth sweep --index {params.index:q} --targets {params.targets:q} -o {output.nc:q} "
-        "--csv {output.csv:q} --plot {output.png:q} > {log:q} 2>&1"
+        "--csv {output.csv:q} --plot {output.png:q} --body-plot {output.body:q} > {log:q} 2>&1"
 
 
 checkpoint design:

@@ -1,0 +1,94 @@
+"""Figures on the body: the garment's quads over the body's triangles in three views, on a torso,
+a cylinder and a mesh body, with the colours, girth labels and colour bar of the result."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+
+from cloth.aggregate import MMHG
+from cloth.bodies.torso import chart_size, torso_mesh
+from cloth.onbody import FIELDS, VIEWS, body_band, body_figure, field_range, visible_quads
+from cloth.plots import FIGURES
+from cloth.predeform import predeform
+from cloth.stages import aggregate
+from tests.conftest import write_obj
+from tests.test_relax import solve
+from tests.test_results import relaxed_file
+
+BODIES = {
+    "torso": ({"torso": {"size": "M"}}, 0.95, 1.10),
+    "cylinder": ({"cylinder": {"radius": 0.1, "bottom": 0.0, "top": 0.5}}, 0.15, 0.35),
+    # faceted contact: the figure draws the mesh either way, and the fit would take 20 s
+    "mesh": ({"mesh": "torso.obj", "surface": "mesh"}, 0.95, 1.10),
+}
+
+
+@pytest.fixture(scope="module", params=sorted(BODIES))
+def result(request, tmp_path_factory):
+    tmp = tmp_path_factory.mktemp(request.param)
+    body, bottom, top = BODIES[request.param]
+    if "mesh" in body:
+        body = {**body, "mesh": str(tmp / body["mesh"])}
+    write_obj(tmp / "torso.obj", *torso_mesh(chart_size("M"), 64, 60))
+    case = {
+        "material": "powernet",
+        "body": body,
+        "garment": {"bottom": bottom, "top": top, "reduction": 0.15, "grid": [32, 6],
+                    "edges": "sliding"},
+    }  # fmt: skip
+    state = predeform(case, tmp)
+    iterations = 8 if request.param == "mesh" else 60  # faceted: converged or not, it draws
+    path = relaxed_file(tmp, state, solve(state, tolerance=1e-8, iterations=iterations))
+    return request.param, aggregate(path, tmp)[0]
+
+
+def _collections(ax, gid):
+    return [c for c in ax.collections if isinstance(c, Poly3DCollection) and c.get_gid() == gid]
+
+
+def test_the_figure_holds_the_body_and_the_garment_in_three_views(result):
+    kind, ds = result
+    assert set(FIELDS) <= set(FIGURES)
+    body = body_band(ds)
+    assert body is not None and len(body[1]) > 50
+    fig = body_figure(ds, "body_pressure", body=body)
+    views = [ax for ax in fig.axes if hasattr(ax, "get_zlim")]
+    assert [ax.get_title() for ax in views] == list(VIEWS)
+    for ax in views:
+        (garment,) = _collections(ax, "garment")
+        (skin,) = _collections(ax, "body")
+        assert len(garment.get_facecolors()) > 20 and len(skin.get_facecolors()) > 10
+    # each view shows the side facing it: the front +y, the side +x, the back -y
+    points = np.stack([ds[c].values for c in "xyz"], axis=-1).reshape(-1, 3)
+    axis = points.mean(axis=0)
+    for view, azimuth in VIEWS.items():
+        quads, values = visible_quads(ds, "pressure_mmHg", 1.0, azimuth)
+        eye = [np.cos(np.radians(azimuth)), np.sin(np.radians(azimuth)), 0]
+        towards, radius = (quads.mean(axis=1) - axis) @ eye, np.ptp(points @ eye) / 2
+        assert towards.min() > -0.3 * radius and towards.mean() > 0.4 * radius, view
+        assert values.min() >= float(ds["pressure_mmHg"].min()) - 1e-12
+    bars = [ax for ax in fig.axes if ax.get_ylabel() == "pressure [mmHg]"]
+    assert len(bars) == 1
+    labels = [t.get_text() for ax in views for t in ax.texts]
+    for index, name in enumerate(ds["landmark"].values.tolist()):
+        mean = float(ds["pressure_mean"][index]) / MMHG
+        if any(t.startswith(f"{name} ") for t in labels):
+            assert f"{name} {mean:.3g} mmHg" in labels
+    assert any("mmHg" in t for t in labels) or kind == "cylinder"
+
+
+@pytest.mark.parametrize("result", ["cylinder"], indirect=True)
+def test_the_cylinders_body_is_its_surface_and_the_quads_carry_the_corner_means(result):
+    _, ds = result
+    vertices, _ = body_band(ds)
+    np.testing.assert_allclose(np.hypot(vertices[:, 0], vertices[:, 1]), 0.1, rtol=1e-12)
+    assert np.hypot(ds["x"].values, ds["y"].values).min() > 0.1 - 1e-6
+    p = ds["pressure_mmHg"].values
+    corners = (p[:-1, :-1] + np.roll(p, -1, axis=1)[:-1, :-1] + p[1:, :-1]
+               + np.roll(p, -1, axis=1)[1:, :-1]) / 4  # fmt: skip
+    quads, values = visible_quads(ds, "pressure_mmHg", 1.0, 0.0)
+    assert len(quads) >= corners.size / 3
+    assert np.all(np.min(np.abs(values[:, None] - corners.ravel()[None]), axis=1) < 1e-12)
+    assert field_range([ds], "pressure_mmHg") == (0.0, pytest.approx(np.percentile(p, 99)))
