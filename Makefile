@@ -22,7 +22,7 @@ install: $(STAMP)
 $(STAMP): pyproject.toml
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
-	$(BIN)/python -m pip install --quiet -e '.[test,dev]'
+	$(BIN)/python -m pip install --quiet -e '.[test,dev,view]'
 	$(foreach extra,$(OPTIONAL),$(BIN)/python -m pip install --quiet -e '.[$(extra)]' || echo "make: the extra $(extra) did not install; its tests skip" >&2;)
 	touch $(STAMP)
 

@@ -277,6 +277,16 @@ def _plot(args: argparse.Namespace) -> int:
     return 0
 
 
+def _view(args: argparse.Namespace) -> int:
+    from cloth.io import read_netcdf
+    from cloth.onbody import body_band
+    from cloth.view import write_view
+
+    ds = read_netcdf(args.result, "result", ("x", "y", "z", "pressure_mmHg"))
+    write_view(ds, args.output, body_band(ds))
+    return 0
+
+
 def _export(args: argparse.Namespace) -> int:
     from cloth.export import export
     from cloth.io import read_netcdf
@@ -560,6 +570,13 @@ def build_parser() -> argparse.ArgumentParser:
         "that the figures of a sweep compare (default: this result's own range)",
     )  # fmt: skip
     plot.set_defaults(handler=_plot)
+
+    view = commands.add_parser(
+        "view", help="result.nc -> one self-contained HTML page: body and garment in 3D"
+    )
+    view.add_argument("result", type=Path, help="result.nc from cloth aggregate")
+    view.add_argument("-o", "--output", type=Path, required=True, help="HTML file to write")
+    view.set_defaults(handler=_view)
 
     exp = commands.add_parser("export", help="result.nc -> .ply, .vtu or .csv")
     exp.add_argument("result", type=Path, help="result.nc from cloth aggregate")

@@ -97,6 +97,8 @@ def test_tiny_pipeline_end_to_end(tiny_run):
     figures = {f.stem for f in (where / "results/cases/tiny/figures").glob("*.png")}
     assert figures == set(FIGURES)
     assert (where / "results/sweep_on_body.png").stat().st_size > 20_000
+    page = (where / "results/cases/tiny/garment.html").read_text()
+    assert '<meta name="cloth:nodes" content="192">' in page
     with xr.open_dataset(where / "results/sweep.nc") as sweep:
         assert dict(sweep.sizes) == {"material": 1, "body": 1, "reduction": 2, "landmark": 2}
         waist = sweep["pressure_mean"].sel(landmark="waist").values.ravel()

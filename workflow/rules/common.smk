@@ -1,6 +1,9 @@
 # Helpers shared by the rules: config lookups, case expansion and the list of final outputs.
+import importlib.util
 import json
 import shlex
+
+from snakemake.logging import logger
 
 from cloth import __version__ as CLOTH_VERSION
 from cloth.config import validate_case
@@ -267,6 +270,16 @@ def confirmation_results(wildcards):
     ]
 
 
+#: The interactive view per case needs plotly (the extra ``view``); without it the pipeline
+#: leaves garment.html out and says so once.
+VIEW = importlib.util.find_spec("plotly") is not None
+if not VIEW:
+    logger.warning(
+        "cloth: plotly is not installed, so no garment.html views are written; "
+        "pip install 'cloth[view]' to have them"
+    )
+
+
 def all_outputs():
     """Every final output of the configured pipeline."""
     torsos = [n for n, b in config.get("bodies", {}).items() if "torso" in b]
@@ -294,6 +307,7 @@ def all_outputs():
                 "results/cases/{case}/result.nc",
                 "results/cases/{case}/summary.csv",
                 "results/cases/{case}/figures/stress_weft.png",
+                *(["results/cases/{case}/garment.html"] if VIEW else []),
             ],
             case=sorted(CASES),
         )

@@ -26,3 +26,26 @@ rule figures:
         cloth_version=CLOTH_VERSION,
     shell:
         "cloth plot {input.result:q} --peers {input.peers:q} -o {params.folder:q} > {log:q} 2>&1"
+
+
+rule view:
+    input:
+        "results/cases/{case}/result.nc",
+    output:
+        report(
+            "results/cases/{case}/garment.html",
+            caption="../report/view.rst",
+            category="Cases",
+            subcategory="{case}",
+        ),
+    log:
+        "logs/view/{case}.log",
+    conda:
+        "../envs/cloth.yaml"
+    resources:
+        mem_mb=case_resource("figures", "mem_mb"),
+        runtime=case_resource("figures", "runtime"),
+    params:
+        cloth_version=CLOTH_VERSION,
+    shell:
+        "cloth view {input:q} -o {output:q} > {log:q} 2>&1"
