@@ -7,6 +7,7 @@ nothing is written in that case, since every output is written atomically after 
 from __future__ import annotations
 
 import argparse
+import importlib.util
 import logging
 import sys
 from collections.abc import Callable, Sequence
@@ -127,6 +128,7 @@ def _predeform(args: argparse.Namespace) -> int:
 
     case = load_case(args.case)
     base_dir = args.base_dir if args.base_dir is not None else args.case.parent
+    _guard(("predeform",), case, base_dir, args)
     state = predeform(case, base_dir, str(args.case))
     write_netcdf(state_dataset(state, "initial"), args.output)
     log.info("wrote %s", args.output)
@@ -227,11 +229,30 @@ def _relax_state(state, base_dir, args, output: Path, previous: dict | None) -> 
     return 0
 
 
+def _guard(stages: tuple[str, ...], case: dict, base_dir: Path, args: argparse.Namespace):
+    """Refuse (InputError) a case whose estimated memory exceeds the free memory."""
+    from cloth.guard import case_counts, check_fits
+
+    source = getattr(args, "case", None) or getattr(args, "initial", None)
+    check_fits(stages, *case_counts(case, base_dir), source, args.force)
+
+
 def _relax(args: argparse.Namespace) -> int:
+    import json
+
+    import xarray as xr
+
     from cloth.state import read_state
 
-    state, ds = read_state(args.initial)
     base_dir = args.base_dir if args.base_dir is not None else Path(".")
+    try:  # the case from the header alone, before the arrays are read
+        with xr.open_dataset(args.initial) as head:
+            case = json.loads(head.attrs["case"])
+    except Exception:  # read_state reports an unreadable file in one line
+        case = None
+    if case is not None:
+        _guard(("relax",), case, base_dir, args)
+    state, ds = read_state(args.initial)
     return _relax_state(state, base_dir, args, args.output, dict(ds.attrs))
 
 
@@ -243,10 +264,33 @@ def _run(args: argparse.Namespace) -> int:
 
     case = load_case(args.case)
     base_dir = args.base_dir if args.base_dir is not None else args.case.parent
+    _guard(("predeform", "relax", "aggregate", "figures"), case, base_dir, args)
     state = predeform(case, base_dir, str(args.case))
     initial = state_dataset(state, "initial")
     write_netcdf(initial, args.output / "initial.nc")
-    return _relax_state(state, base_dir, args, args.output / "relaxed.nc", dict(initial.attrs))
+    if args.stop_after == "predeform":
+        return 0
+    relaxed = args.output / "relaxed.nc"
+    code = _relax_state(state, base_dir, args, relaxed, dict(initial.attrs))
+    if code or args.stop_after == "relax":
+        return code
+    from cloth.resultfile import write_summary
+    from cloth.stages import aggregate, figures
+
+    result, rows = aggregate(relaxed, base_dir)
+    write_netcdf(result, args.output / "result.nc")
+    write_summary(rows, args.output / "summary.csv")
+    if args.stop_after == "aggregate":
+        return 0
+    figures(args.output / "result.nc", args.output / "figures")
+    if importlib.util.find_spec("plotly") is not None:
+        from cloth.onbody import body_band
+        from cloth.view import write_view
+
+        write_view(result, args.output / "garment.html", body_band(result))
+    else:
+        log.warning("plotly is not installed: no garment.html (pip install 'cloth[view]')")
+    return 0
 
 
 def _aggregate(args: argparse.Namespace) -> int:
@@ -366,6 +410,14 @@ def _positive_int(text: str) -> int:
     if value < 2:
         raise argparse.ArgumentTypeError(f"must be >= 2, got {value}")
     return value
+
+
+def _force_option(command: argparse.ArgumentParser) -> None:
+    command.add_argument(
+        "--force", action="store_true",
+        help="run even when the estimated peak memory exceeds the free memory (also "
+        "CLOTH_FORCE=1; docs/performance.md, 'Guardrails')",
+    )  # fmt: skip
 
 
 def _mesh_options(parser: argparse.ArgumentParser) -> None:
@@ -502,6 +554,7 @@ def build_parser() -> argparse.ArgumentParser:
         "(default: the case file's folder)",
     )  # fmt: skip
     pre.add_argument("--plot", type=Path, help="also write a 3D figure of the wrapped garment")
+    _force_option(pre)
     pre.set_defaults(handler=_predeform)
 
     def solver_options(command: argparse.ArgumentParser) -> None:
@@ -522,6 +575,7 @@ def build_parser() -> argparse.ArgumentParser:
         command.add_argument(
             "--base-dir", type=Path, help="folder the case's relative paths are relative to"
         )
+        _force_option(command)
 
     rel = commands.add_parser(
         "relax",
@@ -533,9 +587,16 @@ def build_parser() -> argparse.ArgumentParser:
     solver_options(rel)
     rel.set_defaults(handler=_relax)
 
-    run = commands.add_parser("run", help="run every stage that exists for one case into a folder")
+    run = commands.add_parser(
+        "run", help="case.yaml -> every stage into a folder: initial.nc, relaxed.nc, "
+        "result.nc, summary.csv, figures/ and garment.html",
+    )  # fmt: skip
     run.add_argument("case", type=Path, help="case YAML file")
     run.add_argument("-o", "--output", type=Path, required=True, help="output folder")
+    run.add_argument(
+        "--stop-after", choices=("predeform", "relax", "aggregate"),
+        help="stop after this stage (default: run them all)",
+    )  # fmt: skip
     solver_options(run)
     run.set_defaults(handler=_run)
 

@@ -59,6 +59,10 @@ def _start(hull: NDArray[np.float64]) -> float:
     return float(cumulative[k] + t[k] * seg[k])
 
 
+#: Grids above this many nodes show a progress bar (on a terminal) while they are wrapped.
+PROGRESS_NODES = 50_000
+
+
 def place_on_hull(hull: NDArray[np.float64], n: int) -> NDArray[np.float64]:
     """n points at equal arc length on a closed counter-clockwise polygon ((H, 2)), from the
     centre back."""
@@ -73,14 +77,22 @@ def place_on_hull(hull: NDArray[np.float64], n: int) -> NDArray[np.float64]:
 
 
 def row_hulls(
-    body: Body, heights: NDArray[np.float64], loop_point: list[float] | None
+    body: Body,
+    heights: NDArray[np.float64],
+    loop_point: list[float] | None,
+    nodes_per_row: int = 0,
 ) -> list[NDArray[np.float64]]:
     """Convex hull per row of the body's cross-section: of the loop around ``loop_point``, else
     of the largest loop where the section has several (arms apart from the torso; logged), else
-    of the one loop."""
+    of the one loop. A progress bar on a terminal for grids above `PROGRESS_NODES`."""
+    from tqdm import tqdm
+
     low, high = body.z_range
     hulls, several = [], []
-    for z in heights:
+    bar = tqdm(heights, desc="predeform: row sections", unit="row", mininterval=1.0,
+               disable=None if len(heights) * nodes_per_row > PROGRESS_NODES else True,
+               leave=False)  # fmt: skip
+    for z in bar:
         if not low <= z <= high:
             raise InputError(
                 f"row height {z:.6g} m is outside the body ({low:.6g} to {high:.6g} m); choose "
@@ -139,7 +151,8 @@ def predeform(case: dict[str, Any], base_dir: str | Path = ".", source: str = "c
     body, body_ref = body_from_config(case["body"], base_dir)
     n, m = garment["grid"]
     heights = np.linspace(garment["bottom"], garment["top"], m)
-    hulls = row_hulls(body, heights, garment.get("loop_point"))
+    log.info("predeform: %s nodes (%d x %d) on the body", f"{n * m:,}", n, m)
+    hulls = row_hulls(body, heights, garment.get("loop_point"), n)
     hull_girth = np.array([polygon_perimeter(h) for h in hulls])
     if garment.get("loop_point") is None:  # the body's own hull girth: exact for closed forms
         whole = np.array([body.girth(float(z))[1] for z in heights])

@@ -1,0 +1,113 @@
+"""Guardrails: a case too big for the machine is refused before any work, in one line, exit 2;
+--force runs it; the default cases are never refused."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import pytest
+import yaml
+
+import cloth.guard
+import cloth.predeform
+from cloth.cli import main
+from cloth.guard import BYTES_PER_FACE, check_fits, estimate, free_memory_mb, mesh_faces
+from cloth.resources import MODEL
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def _case(tmp_path, grid, body=None):
+    case = {
+        "material": "powernet",
+        "body": body or {"torso": {"size": "M"}},
+        "garment": {"bottom": 0.9, "top": 1.1, "reduction": 0.15, "grid": grid},
+    }
+    path = tmp_path / "case.yaml"
+    path.write_text(yaml.safe_dump(case))
+    return path
+
+
+@pytest.fixture
+def no_work(monkeypatch):
+    """Fails the test if predeform starts: a refusal must come before any work."""
+
+    def refuse(*args, **kwargs):
+        raise AssertionError("predeform started")
+
+    monkeypatch.setattr(cloth.predeform, "predeform", refuse)
+
+
+def _one_line(capsys):
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1, err
+    return err[0]
+
+
+@pytest.mark.parametrize("verb", ["predeform", "run"])
+def test_a_grid_of_forty_billion_nodes_is_refused_before_any_work(tmp_path, capsys, verb, no_work):
+    case = _case(tmp_path, [200000, 200000])
+    out = tmp_path / ("initial.nc" if verb == "predeform" else "out")
+    args = [verb, str(case), "--base-dir", str(ROOT), "-o", str(out)]
+    assert main(["--log-level", "WARNING", *args]) == 2
+    line = _one_line(capsys)
+    assert str(case) in line and "garment.grid" in line and "--force" in line
+    assert re.search(r"40,000,000,000 garment nodes need an estimated [\d,]+ MB", line)
+    assert not out.exists()
+
+
+def test_a_hundred_million_face_mesh_is_refused_from_its_header(tmp_path, capsys, no_work):
+    header = "ply\nformat binary_little_endian 1.0\nelement vertex 50000000\nproperty float x\n"
+    header += "property float y\nproperty float z\nelement face 100000000\n"
+    header += "property list uchar int vertex_indices\nend_header\n"
+    (tmp_path / "scan.ply").write_text(header)  # the header alone: nothing else is read
+    assert mesh_faces(tmp_path / "scan.ply") == 100_000_000
+    case = _case(tmp_path, [96, 48], {"mesh": "scan.ply", "units": "mm"})
+    assert main(["predeform", str(case), "-o", str(tmp_path / "initial.nc")]) == 2
+    line = _one_line(capsys)
+    assert "body.mesh" in line and "100,000,000 faces" in line
+    # the estimate alone, as for any 100M-face mesh: its faces dominate
+    assert estimate("relax", 96 * 48, 100_000_000).memory_mb > 0.9 * BYTES_PER_FACE * 100
+
+
+def test_force_runs_what_the_estimate_would_refuse(tmp_path, capsys, monkeypatch):
+    monkeypatch.setattr(cloth.guard, "free_memory_mb", lambda: 10.0)  # a machine of 10 MB
+    case = _case(tmp_path, [24, 6])
+    args = ["predeform", str(case), "--base-dir", str(ROOT)]
+    assert main([*args, "-o", str(tmp_path / "a.nc")]) == 2
+    assert "10 MB are free" in _one_line(capsys)
+    assert main([*args, "-o", str(tmp_path / "b.nc"), "--force"]) == 0
+    monkeypatch.setenv("CLOTH_FORCE", "1")
+    assert main([*args, "-o", str(tmp_path / "c.nc")]) == 0
+    assert (tmp_path / "b.nc").is_file() and (tmp_path / "c.nc").is_file()
+    monkeypatch.delenv("CLOTH_FORCE")
+    relax = ["relax", str(tmp_path / "b.nc"), "--base-dir", str(ROOT), "-o"]
+    assert main([*relax, str(tmp_path / "r.nc")]) == 2  # the relax stage checks its own need
+    assert "in relax" in _one_line(capsys) and not (tmp_path / "r.nc").exists()
+    assert main([*relax, str(tmp_path / "r.nc"), "--force"]) == 0
+
+
+def test_the_default_cases_fit_a_small_machine():
+    config = yaml.safe_load((ROOT / "config/config.yaml").read_text())
+    n, m = config["sweep"]["garment"]["grid"]
+    # a 2 GB machine runs every stage of every default case
+    assert check_fits(tuple(MODEL), n * m, 0, "config", force=False)
+    worst = max(estimate(stage, n * m).memory_mb for stage in MODEL)
+    assert worst < 2000
+    free = free_memory_mb()
+    assert free is None or 0 < free < 1e9
+
+
+def test_face_counts_come_from_headers_or_bound_the_file(tmp_path):
+    import numpy as np
+    import trimesh
+
+    mesh = trimesh.creation.icosphere(subdivisions=3)
+    for suffix in ("ply", "stl"):
+        mesh.export(tmp_path / f"ball.{suffix}")
+        assert mesh_faces(tmp_path / f"ball.{suffix}") == len(mesh.faces)
+    mesh.export(tmp_path / "ball.obj")
+    assert mesh_faces(tmp_path / "ball.obj") >= len(mesh.faces)  # a bound from the size
+    assert mesh_faces(tmp_path / "missing.obj") == 0
+    assert np.isfinite(estimate("predeform", 1000, len(mesh.faces)).seconds)
