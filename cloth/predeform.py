@@ -59,7 +59,8 @@ def _start(hull: NDArray[np.float64]) -> float:
     return float(cumulative[k] + t[k] * seg[k])
 
 
-#: Grids above this many nodes show a progress bar (on a terminal) while they are wrapped.
+#: Grids above this many nodes show their progress while they are wrapped (a bar on a
+#: terminal, log lines otherwise).
 PROGRESS_NODES = 50_000
 
 
@@ -84,15 +85,14 @@ def row_hulls(
 ) -> list[NDArray[np.float64]]:
     """Convex hull per row of the body's cross-section: of the loop around ``loop_point``, else
     of the largest loop where the section has several (arms apart from the torso; logged), else
-    of the one loop. A progress bar on a terminal for grids above `PROGRESS_NODES`."""
-    from tqdm import tqdm
+    of the one loop. Progress is shown for grids above `PROGRESS_NODES` (`cloth.progress`)."""
+    from cloth.progress import progress
 
     low, high = body.z_range
     hulls, several = [], []
-    bar = tqdm(heights, desc="predeform: row sections", unit="row", mininterval=1.0,
-               disable=None if len(heights) * nodes_per_row > PROGRESS_NODES else True,
-               leave=False)  # fmt: skip
-    for z in bar:
+    large = len(heights) * nodes_per_row > PROGRESS_NODES
+    for z in progress(heights, desc="predeform: row sections", unit="row",
+                      show=None if large else False):  # fmt: skip
         if not low <= z <= high:
             raise InputError(
                 f"row height {z:.6g} m is outside the body ({low:.6g} to {high:.6g} m); choose "

@@ -222,10 +222,11 @@ def _signed_distance(vertices: NDArray, faces: NDArray, points: NDArray) -> NDAr
 def fit_surface(
     mesh: MeshBody, options: FitOptions = DEFAULT_OPTIONS, progress: bool | None = None
 ) -> SurfaceFit:
-    """Fit the smooth surface of ``mesh`` (module docstring); a progress bar over the exact
-    distance samples (``progress``: None = only on a terminal)."""
+    """Fit the smooth surface of ``mesh`` (module docstring); progress over the exact
+    distance samples (``progress``: None = a bar on a terminal, else log lines)."""
     from scipy.ndimage import gaussian_filter, laplace
-    from tqdm import tqdm
+
+    from cloth.progress import progress as progress_of
 
     vertices, faces = mesh.vertices, mesh.faces
     vertices, move = denoise.as_fitted(vertices, faces, options.denoise, refine.NOISE_RATIO)
@@ -278,10 +279,7 @@ def fit_surface(
     values = np.where(far_coarse[index], np.sign(coarse)[index] * clamp, np.nan)
     exact = np.flatnonzero(np.isnan(values))
     flat = values.reshape(-1)
-    with tqdm(
-        total=exact.size, desc="surface fit", unit="sample",
-        disable=None if progress is None else not progress, mininterval=1.0,
-    ) as bar:  # fmt: skip
+    with progress_of(total=exact.size, desc="surface fit", unit="sample", show=progress) as bar:
         for start in range(0, exact.size, SAMPLE_BATCH):
             chunk = exact[start : start + SAMPLE_BATCH]
             ijk = np.stack(np.unravel_index(chunk, tuple(shape)), axis=1)
