@@ -63,6 +63,13 @@ def field_range(datasets: Sequence[xr.Dataset], variable: str, scale: float = 1.
     return low, max(float(high), low + 1e-9)
 
 
+def shared_ranges(datasets: Sequence[xr.Dataset]):
+    """Colour ranges shared by ``datasets`` (a sweep's results, in any order): stress (Pa,
+    weft and warp on one scale) and pressure (mmHg), by `field_range`."""
+    weft, warp = (field_range(datasets, f"stress_{d}") for d in ("weft", "warp"))
+    return (min(weft[0], warp[0]), max(weft[1], warp[1])), field_range(datasets, "pressure_mmHg")
+
+
 def garment_positions(ds: xr.Dataset) -> NDArray[np.float64]:
     """Node positions of a result, (m, n, 3), m (rows bottom to top, columns around)."""
     return np.stack([ds[c].values for c in ("x", "y", "z")], axis=-1)
@@ -111,10 +118,11 @@ def visible_quads(ds: xr.Dataset, variable: str, scale: float, azimuth: float):
 def _girth_rows(ds: xr.Dataset) -> list[tuple[str, int, int]]:
     """(landmark, its row, its index in the landmark dim) of every landmark on the garment."""
     heights = ds["z"].values.mean(axis=1)
+    half_row = 0.5 * float(np.ptp(heights)) / max(len(heights) - 1, 1)  # edge lines count
     rows = []
     for index, name in enumerate(ds["landmark"].values.tolist()):
         height = float(ds["landmark_height"][index])
-        if heights.min() <= height <= heights.max():
+        if heights.min() - half_row <= height <= heights.max() + half_row:
             rows.append((str(name), int(np.argmin(np.abs(heights - height))), index))
     return rows
 

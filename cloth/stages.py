@@ -75,17 +75,14 @@ def figures(
     ``pressure_range`` (mmHg) where given, else the range over ``peers`` (the result files of
     the case's sweep, so that its figures compare) and the result itself."""
     from cloth.io import read_netcdf
-    from cloth.onbody import FIELDS, body_band, field_range, plot_on_body
+    from cloth.onbody import FIELDS, body_band, plot_on_body, shared_ranges
     from cloth.plots import plot_result
 
     ds = read_netcdf(result_path, "result", ("stress_weft", "pressure", "u", "v"))
     others = [read_netcdf(p, "result", ("stress_weft", "pressure_mmHg")) for p in peers]
-    every = [ds, *others]
-    if stress_range is None:
-        weft, warp = (field_range(every, f"stress_{d}") for d in ("weft", "warp"))
-        stress_range = (min(weft[0], warp[0]), max(weft[1], warp[1]))
-    if pressure_range is None:
-        pressure_range = field_range(every, "pressure_mmHg")
+    shared_stress, shared_pressure = shared_ranges([ds, *others])
+    stress_range = stress_range or shared_stress
+    pressure_range = pressure_range or shared_pressure
     paths = plot_result(ds, folder, stress_range, pressure_range)
     body = body_band(ds)
     for name, (variable, scale, _) in FIELDS.items():

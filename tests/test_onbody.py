@@ -9,7 +9,15 @@ from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
 from cloth.aggregate import MMHG
 from cloth.bodies.torso import chart_size, torso_mesh
-from cloth.onbody import FIELDS, VIEWS, body_band, body_figure, field_range, visible_quads
+from cloth.onbody import (
+    FIELDS,
+    VIEWS,
+    body_band,
+    body_figure,
+    field_range,
+    shared_ranges,
+    visible_quads,
+)
 from cloth.plots import FIGURES
 from cloth.predeform import predeform
 from cloth.stages import aggregate
@@ -92,3 +100,19 @@ def test_the_cylinders_body_is_its_surface_and_the_quads_carry_the_corner_means(
     assert len(quads) >= corners.size / 3
     assert np.all(np.min(np.abs(values[:, None] - corners.ravel()[None]), axis=1) < 1e-12)
     assert field_range([ds], "pressure_mmHg") == (0.0, pytest.approx(np.percentile(p, 99)))
+
+
+def test_a_sweeps_figures_share_one_colour_range(tmp_path):
+    from tests.test_relax import tube
+
+    results = []
+    for reduction in (0.1, 0.2):
+        state = tube({"cylinder": {"radius": 0.1, "bottom": 0.0, "top": 0.5}}, reduction, 24, 4)
+        results.append(aggregate(relaxed_file(tmp_path, state, solve(state)), tmp_path)[0])
+    low, high = results[0]["pressure_mmHg"], results[1]["pressure_mmHg"]
+    assert float(high.median()) > 2 * float(low.median())  # Laplace: tighter presses harder
+    forward, backward = shared_ranges(results), shared_ranges(results[::-1])
+    assert forward == backward
+    (s_low, s_high), (p_low, p_high) = forward
+    assert p_low == 0.0 and p_high >= float(np.percentile(high, 99))
+    assert s_low <= 0.0 < float(np.percentile(results[1]["stress_weft"], 99)) <= s_high
