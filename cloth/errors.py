@@ -10,6 +10,8 @@ from __future__ import annotations
 from pathlib import Path
 
 EXIT_INPUT = 2
+#: Exit status of a relaxation that diverged (its last finite state is written beside).
+EXIT_DIVERGED = 3
 
 
 class InputError(ValueError):
@@ -40,3 +42,12 @@ def require_positive(value: float, name: str, quantity: str) -> float:
     if not (value > 0 and value != float("inf")):
         raise InputError(f"{name} must be a positive {quantity}, got {value}", field=name)
     return value
+
+
+class StageFailed(RuntimeError):
+    """A stage that could not finish for a reason other than its input (a relaxation that
+    diverged); the CLI prints the message on one line and exits with ``status``."""
+
+    def __init__(self, message: str, status: int) -> None:
+        self.status = status
+        super().__init__(message)

@@ -1,6 +1,6 @@
-"""The pipeline's stages that join several of the package's parts, one function each, file in,
-datasets out (the CLI parses and writes; `cloth.aggregate` computes, `cloth.resultfile` lays
-out the result file). Kept apart so that those modules import only downward.
+"""The result stages: relaxed.nc -> result.nc and summary.csv (`aggregate`, `write_result`),
+result.nc -> figures (`figures`) and the interactive view (`view`). `cloth.aggregate` computes,
+`cloth.resultfile` lays out the result file; the stages join them to the files.
 """
 
 from __future__ import annotations
@@ -92,3 +92,44 @@ def figures(
             plot_on_body(ds, name, Path(folder) / f"{name}.png", (low * scale, high * scale), body)
         )
     return paths
+
+
+def write_result(
+    relaxed_path: str | Path,
+    output: str | Path,
+    summary: str | Path | None = None,
+    base_dir: str | Path = ".",
+) -> xr.Dataset:
+    """relaxed.nc -> result.nc (and the landmark summary CSV): the aggregate stage's files;
+    logs each girth line's pressure, and warns if the relaxation did not converge."""
+    import logging
+
+    from cloth.io import write_netcdf
+    from cloth.resultfile import write_summary
+
+    log = logging.getLogger("cloth")
+    ds, rows = aggregate(relaxed_path, base_dir)
+    write_netcdf(ds, output)
+    if summary:
+        write_summary(rows, summary)
+    if not int(ds.attrs["converged"]):
+        log.warning("%s: the relaxation did not converge; results are marked so", relaxed_path)
+    for row in rows:
+        log.info(
+            "%s: pressure mean %.4g Pa (%.3g mmHg, RAL %s), max %.3g mmHg",
+            row["landmark"], row["pressure_mean_Pa"], row["pressure_mean_mmHg"],
+            row["ral_gz_387_class"], row["pressure_max_mmHg"],
+        )  # fmt: skip
+    return ds
+
+
+def view(result: str | Path | xr.Dataset, output: str | Path) -> Path:
+    """result.nc (or its dataset) -> the interactive HTML view over its body (`cloth.view`)."""
+    from cloth.io import read_netcdf
+    from cloth.onbody import body_band
+    from cloth.view import write_view
+
+    ds = result if isinstance(result, xr.Dataset) else (
+        read_netcdf(result, "result", ("x", "y", "z", "pressure_mmHg"))
+    )  # fmt: skip
+    return write_view(ds, output, body_band(ds))

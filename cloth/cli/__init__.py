@@ -1,0 +1,44 @@
+"""The ``cloth`` command: thin argparse adapters over the library's functions.
+
+Bad input (`cloth.errors.InputError`) is reported as one line on stderr with exit status 2, a
+stage that could not finish (`cloth.errors.StageFailed`: a diverged relaxation) with its own;
+nothing is written in that case, since every output is written atomically after the work is done.
+"""
+
+from __future__ import annotations
+
+import logging
+import sys
+from collections.abc import Sequence
+
+from cloth.cli.parser import build_parser
+from cloth.errors import EXIT_INPUT, InputError, StageFailed
+
+__all__ = ["build_parser", "main"]
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the ``cloth`` command; returns the exit status."""
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    logging.basicConfig(
+        level=getattr(logging, args.log_level),
+        format="%(asctime)s %(levelname)s %(name)s: %(message)s",
+        stream=sys.stderr,
+    )
+    from cloth.io import set_command
+
+    set_command(["cloth", *(sys.argv[1:] if argv is None else argv)])
+    handler = args.handler
+    try:
+        return handler(args)
+    except InputError as exc:
+        print(f"cloth: error: {exc}", file=sys.stderr)
+        return EXIT_INPUT
+    except StageFailed as exc:
+        print(f"cloth: error: {exc}", file=sys.stderr)
+        return exc.status
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

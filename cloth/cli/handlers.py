@@ -1,0 +1,177 @@
+"""The ``cloth`` command's handlers: each turns parsed arguments into one call of a stage
+(`cloth.stages`) or of the library, and returns the exit status."""
+
+from __future__ import annotations
+
+import argparse
+import logging
+from collections.abc import Callable
+from pathlib import Path
+
+from cloth.errors import InputError
+
+log = logging.getLogger("cloth")
+
+Handler = Callable[[argparse.Namespace], int]
+
+
+def _material_ingest(args: argparse.Namespace) -> int:
+    from cloth.labtables import IngestOptions
+    from cloth.stages.inputs import ingest_material
+
+    options = IngestOptions(
+        n_knots=args.knots, branch=args.branch, cycle=args.cycle,
+        thickness_mm=args.thickness_mm, specimen_width_mm=args.specimen_width_mm,
+        gauge_length_mm=args.gauge_length_mm, compression_ratio=args.compression_ratio,
+        name=args.name,
+    )  # fmt: skip
+    ingest_material(args.tables, args.direction, options, args.output, args.plot)
+    return 0
+
+
+def _body_torso(args: argparse.Namespace) -> int:
+    from cloth.stages.inputs import torso_file
+
+    girths = {k: getattr(args, k) for k in ("bust", "underbust", "waist", "hip")
+              if getattr(args, k) is not None}  # fmt: skip
+    torso_file(args.size, args.chart, girths, args.around, args.rings, args.output)
+    return 0
+
+
+def _fit_options(args: argparse.Namespace):  # -> FitOptions (imported late: startup time)
+    from cloth.bodies.surface import FitOptions
+
+    return FitOptions(args.smoothing, args.spacing, args.refine, args.denoise)
+
+
+def _body_check(args: argparse.Namespace) -> int:
+    from cloth.bodies.check import describe
+
+    lines = describe(
+        args.mesh, args.units, args.up, args.repair, args.levels, args.surface,
+        _fit_options(args), args.curvature, args.surface_file,
+    )  # fmt: skip
+    print("\n".join(lines))
+    return 0
+
+
+def _body_fit(args: argparse.Namespace) -> int:
+    from cloth.bodies.mesh import MeshBody
+    from cloth.bodies.surfacefile import load_or_fit
+
+    mesh = MeshBody.load(args.mesh, args.units, args.up, args.repair, allow_holes=True)
+    load_or_fit(mesh, _fit_options(args), args.output)
+    return 0
+
+
+def _predeform(args: argparse.Namespace) -> int:
+    from cloth.stages.case import predeform_file
+
+    predeform_file(args.case, args.output, args.base_dir, args.plot, args.force)
+    return 0
+
+
+def _case_write(args: argparse.Namespace) -> int:
+    import json
+
+    import yaml
+
+    from cloth.config import validate_case
+    from cloth.io import atomic_output
+
+    try:
+        case = json.loads(args.json)
+    except json.JSONDecodeError as exc:
+        raise InputError(f"not valid JSON ({exc.msg})", field="--json") from None
+    case = validate_case(case, args.output)
+    with atomic_output(args.output) as tmp:
+        tmp.write_text(yaml.safe_dump(case, sort_keys=False))
+    log.info("wrote %s", args.output)
+    return 0
+
+
+def _case_check(args: argparse.Namespace) -> int:
+    import yaml
+
+    from cloth.config import load_case
+
+    print(yaml.safe_dump(load_case(args.case), sort_keys=False), end="")
+    return 0
+
+
+def _overrides(args: argparse.Namespace) -> dict:
+    """The solver keys given on the command line (on top of the case's solver block)."""
+    from cloth.stages.case import SOLVER_KEYS
+
+    return {k: getattr(args, k) for k in SOLVER_KEYS if getattr(args, k, None) is not None}
+
+
+def _relax(args: argparse.Namespace) -> int:
+    from cloth.stages.case import relax_file
+
+    relax_file(args.initial, args.output, _overrides(args), args.base_dir, args.force)
+    return 0
+
+
+def _run(args: argparse.Namespace) -> int:
+    from cloth.stages.case import run_case
+
+    run_case(args.case, args.output, _overrides(args), args.base_dir, args.stop_after,
+             args.force)  # fmt: skip
+    return 0
+
+
+def _aggregate(args: argparse.Namespace) -> int:
+    from cloth.stages import write_result
+
+    write_result(args.relaxed, args.output, args.summary, args.base_dir or Path("."))
+    return 0
+
+
+def _plot(args: argparse.Namespace) -> int:
+    from cloth.stages import figures
+
+    figures(args.result, args.output, args.peers, args.stress_range, args.pressure_range)
+    return 0
+
+
+def _view(args: argparse.Namespace) -> int:
+    from cloth.stages import view
+
+    view(args.result, args.output)
+    return 0
+
+
+def _export(args: argparse.Namespace) -> int:
+    from cloth.export import export
+    from cloth.io import read_netcdf
+
+    export(read_netcdf(args.result, "result", ("x", "y", "z")), args.output, args.field)
+    log.info("wrote %s", args.output)
+    return 0
+
+
+def _sweep(args: argparse.Namespace) -> int:
+    import json
+
+    from cloth.stages.sweep import sweep_files
+
+    sweep_files(json.loads(args.index), json.loads(args.targets), args.root, args.output,
+                args.csv, args.plot, args.body_plot)  # fmt: skip
+    return 0
+
+
+def _design(args: argparse.Namespace) -> int:
+    import json
+
+    from cloth.stages.sweep import design_file
+
+    design_file(args.sweep, json.loads(args.targets), args.output)
+    return 0
+
+
+def _confirm(args: argparse.Namespace) -> int:
+    from cloth.stages.sweep import confirm_file
+
+    confirm_file(args.design, args.root, args.output)
+    return 0

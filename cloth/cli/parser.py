@@ -1,0 +1,307 @@
+"""The ``cloth`` command's argument parser: every verb and its options, declared once."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from cloth import __version__
+from cloth.cli.handlers import (
+    _aggregate,
+    _body_check,
+    _body_fit,
+    _body_torso,
+    _case_check,
+    _case_write,
+    _confirm,
+    _design,
+    _export,
+    _material_ingest,
+    _plot,
+    _predeform,
+    _relax,
+    _run,
+    _sweep,
+    _view,
+)
+
+
+def _positive_int(text: str) -> int:
+    value = int(text)
+    if value < 2:
+        raise argparse.ArgumentTypeError(f"must be >= 2, got {value}")
+    return value
+
+
+def _force_option(command: argparse.ArgumentParser) -> None:
+    command.add_argument(
+        "--force", action="store_true",
+        help="run even when the estimated peak memory exceeds the free memory (also "
+        "CLOTH_FORCE=1; docs/performance.md, 'Guardrails')",
+    )  # fmt: skip
+
+
+def _mesh_options(parser: argparse.ArgumentParser) -> None:
+    """A mesh file as a case reads it, and the options of its smooth surface."""
+    parser.add_argument("mesh", type=Path, help="mesh file (OBJ, STL, PLY, GLB, ...)")
+    parser.add_argument("--units", default="m", help="length unit of the file: m, cm or mm")
+    parser.add_argument("--up", default="z", help="axis of the file that points up: x, y or z")
+    parser.add_argument("--repair", action="store_true", help="let trimesh repair defects")
+    parser.add_argument(
+        "--smoothing", type=float, help="smoothing width sigma, m (default: from the mesh)"
+    )
+    parser.add_argument("--spacing", type=float, help="grid spacing h, m (default: sigma / 2.5)")
+    parser.add_argument(
+        "--refine",
+        type=int,
+        help="times each triangle is split along curved patches before the fit (default: "
+        "until the facets are 8 mm wide, at most 3; 0: never)",
+    )
+    parser.add_argument(
+        "--denoise",
+        action=argparse.BooleanOptionalAction,
+        help="filter the vertices along their normals before the fit (default: where they "
+        "scatter like noise)",
+    )
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The argument parser of the ``cloth`` command."""
+    parser = argparse.ArgumentParser(
+        prog="cloth",
+        description="Stress and body pressure of stretch fabric worn on a body "
+        "(spring-particle model).",
+    )
+    parser.add_argument("--version", action="version", version=f"cloth {__version__}")
+    parser.add_argument(
+        "--log-level",
+        default="INFO",
+        choices=["DEBUG", "INFO", "WARNING", "ERROR"],
+        help="logging verbosity (default INFO)",
+    )
+    commands = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+
+    material = commands.add_parser("material", help="fabric lab tables")
+    material_commands = material.add_subparsers(dest="material_command", required=True)
+    ingest = material_commands.add_parser(
+        "ingest",
+        help="lab table(s) -> material.nc (curves, data, fit error)",
+        description="Read lab tables (see docs/materials.md) into a material netCDF file.",
+    )
+    ingest.add_argument("tables", nargs="+", type=Path, help="CSV lab table(s)")
+    ingest.add_argument("-o", "--output", type=Path, required=True, help="material.nc to write")
+    ingest.add_argument("--plot", type=Path, help="also write a figure of data and curves")
+    ingest.add_argument(
+        "--direction",
+        action="append",
+        choices=["weft", "warp", "bias"],
+        help="direction of each table without a direction column (repeat per table)",
+    )
+    ingest.add_argument(
+        "--knots",
+        type=_positive_int,
+        help="knots of the fitted curve (default: clean tables keep their points, raw exports "
+        "get 8)",
+    )
+    ingest.add_argument(
+        "--branch",
+        default="unload",
+        choices=["unload", "load", "all"],
+        help="branch of cyclic data to fit (default unload: what a worn garment follows)",
+    )
+    ingest.add_argument("--cycle", type=int, help="cycle to fit (default: the last)")
+    ingest.add_argument("--thickness-mm", type=float, help="fabric thickness, mm")
+    ingest.add_argument("--specimen-width-mm", type=float, help="tested strip width, mm")
+    ingest.add_argument("--gauge-length-mm", type=float, help="clamp distance, mm")
+    ingest.add_argument(
+        "--compression-ratio",
+        type=float,
+        help="compression modulus / initial slope (default 0.01)",
+    )
+    ingest.add_argument("--name", help="fabric name (default: header name or file stem)")
+    ingest.set_defaults(handler=_material_ingest)
+
+    body = commands.add_parser("body", help="bodies: parametric torso, mesh checks")
+    body_commands = body.add_subparsers(dest="body_command", required=True)
+    torso = body_commands.add_parser(
+        "torso",
+        help="write the parametric torso of a size chart as a mesh",
+        description="Build the smooth, watertight parametric torso of a size (m, z up).",
+    )
+    torso.add_argument("--size", required=True, help="size name in the chart (e.g. S, M)")
+    torso.add_argument("--chart", type=Path, help="size chart CSV (default data/bodies)")
+    for key in ("bust", "underbust", "waist", "hip"):
+        torso.add_argument(f"--{key}", type=float, help=f"override the {key} girth, cm")
+    torso.add_argument("--around", type=int, default=128, help="mesh points per ring")
+    torso.add_argument("--rings", type=int, default=120, help="mesh rings")
+    torso.add_argument("-o", "--output", type=Path, required=True, help="mesh file (.ply, .stl)")
+    torso.set_defaults(handler=_body_torso)
+    check = body_commands.add_parser(
+        "check",
+        help="check a mesh and print its bounds, height and girth profile",
+        description="Load a body mesh as cloth would (units, up axis, checks) and describe it.",
+    )
+    _mesh_options(check)
+    check.add_argument("--levels", type=int, default=10, help="heights in the girth profile")
+    check.add_argument(
+        "--surface", choices=("smooth", "mesh"), default="smooth",
+        help="contact surface: smooth (fit it and report its deviation) or mesh (the facets)",
+    )  # fmt: skip
+    check.add_argument(
+        "--curvature", type=Path, help="write the smooth surface's mean curvature figure (PNG)"
+    )
+    check.add_argument(
+        "--surface-file", type=Path, help="a fitted surface (cloth body fit) to use if it fits"
+    )
+    check.set_defaults(handler=_body_check)
+    fit = body_commands.add_parser(
+        "fit",
+        help="fit the smooth contact surface of a mesh -> surface.nc",
+        description="Fit (or reuse) the smooth contact surface of a mesh body (docs/bodies.md).",
+    )
+    _mesh_options(fit)
+    fit.add_argument("-o", "--output", type=Path, required=True, help="surface file (.nc)")
+    fit.set_defaults(handler=_body_fit)
+
+    pre = commands.add_parser(
+        "predeform",
+        help="case.yaml -> initial.nc (the garment wrapped on the body)",
+        description="Cut the pattern of a case and wrap it around the body (docs/config.md).",
+    )
+    pre.add_argument("case", type=Path, help="case YAML file")
+    pre.add_argument("-o", "--output", type=Path, required=True, help="initial.nc to write")
+    pre.add_argument(
+        "--base-dir", type=Path, help="folder relative paths in the case are relative to "
+        "(default: the case file's folder)",
+    )  # fmt: skip
+    pre.add_argument("--plot", type=Path, help="also write a 3D figure of the wrapped garment")
+    _force_option(pre)
+    pre.set_defaults(handler=_predeform)
+
+    def solver_options(command: argparse.ArgumentParser) -> None:
+        command.add_argument(
+            "--method", choices=["explicit", "newton", "explicit+newton"],
+            help="relaxation method (default: the case's solver block, else newton)",
+        )  # fmt: skip
+        command.add_argument("--tolerance", type=float, help="relative residual to stop at")
+        command.add_argument("--max-iterations", type=int, help="iteration limit")
+        command.add_argument(
+            "--linear-solver", choices=["auto", "superlu", "cholmod", "pardiso", "amg"],
+            help="Newton's sparse solver (default auto)",
+        )  # fmt: skip
+        command.add_argument("--log-every", type=int, help="log a line every N iterations")
+        command.add_argument(
+            "--warm-start", type=int, help="explicit iterations before Newton (explicit+newton)"
+        )
+        command.add_argument(
+            "--base-dir", type=Path, help="folder the case's relative paths are relative to"
+        )
+        _force_option(command)
+
+    rel = commands.add_parser(
+        "relax",
+        help="initial.nc -> relaxed.nc (equilibrium on the body)",
+        description="Relax a wrapped garment to equilibrium (docs/solvers.md).",
+    )
+    rel.add_argument("initial", type=Path, help="initial.nc from cloth predeform")
+    rel.add_argument("-o", "--output", type=Path, required=True, help="relaxed.nc to write")
+    solver_options(rel)
+    rel.set_defaults(handler=_relax)
+
+    run = commands.add_parser(
+        "run", help="case.yaml -> every stage into a folder: initial.nc, relaxed.nc, "
+        "result.nc, summary.csv, figures/ and garment.html",
+    )  # fmt: skip
+    run.add_argument("case", type=Path, help="case YAML file")
+    run.add_argument("-o", "--output", type=Path, required=True, help="output folder")
+    run.add_argument(
+        "--stop-after", choices=("predeform", "relax", "aggregate"),
+        help="stop after this stage (default: run them all)",
+    )  # fmt: skip
+    solver_options(run)
+    run.set_defaults(handler=_run)
+
+    agg = commands.add_parser(
+        "aggregate",
+        help="relaxed.nc -> result.nc (+ summary.csv): stresses, pressure, landmarks",
+        description="Compute node and spring stresses, body pressure and summaries "
+        "(docs/outputs.md).",
+    )
+    agg.add_argument("relaxed", type=Path, help="relaxed.nc from cloth relax")
+    agg.add_argument("-o", "--output", type=Path, required=True, help="result.nc to write")
+    agg.add_argument("--summary", type=Path, help="also write the landmark summary CSV")
+    agg.add_argument(
+        "--base-dir", type=Path, help="folder the case's relative paths are relative to"
+    )
+    agg.set_defaults(handler=_aggregate)
+
+    plot = commands.add_parser("plot", help="result.nc -> figures (PNG) in a folder")
+    plot.add_argument("result", type=Path, help="result.nc from cloth aggregate")
+    plot.add_argument("-o", "--output", type=Path, required=True, help="folder for the figures")
+    plot.add_argument(
+        "--stress-range", type=float, nargs=2, metavar=("LOW", "HIGH"),
+        help="fixed colour range of the stress maps, Pa (to compare runs)",
+    )  # fmt: skip
+    plot.add_argument(
+        "--pressure-range", type=float, nargs=2, metavar=("LOW", "HIGH"),
+        help="fixed colour range of the pressure map, mmHg",
+    )  # fmt: skip
+    plot.add_argument(
+        "--peers", type=Path, nargs="*", default=[], metavar="RESULT",
+        help="result.nc files (a sweep's) whose values set the colour ranges not given, so "
+        "that the figures of a sweep compare (default: this result's own range)",
+    )  # fmt: skip
+    plot.set_defaults(handler=_plot)
+
+    view = commands.add_parser(
+        "view", help="result.nc -> one self-contained HTML page: body and garment in 3D"
+    )
+    view.add_argument("result", type=Path, help="result.nc from cloth aggregate")
+    view.add_argument("-o", "--output", type=Path, required=True, help="HTML file to write")
+    view.set_defaults(handler=_view)
+
+    exp = commands.add_parser("export", help="result.nc -> .ply, .vtu or .csv")
+    exp.add_argument("result", type=Path, help="result.nc from cloth aggregate")
+    exp.add_argument("-o", "--output", type=Path, required=True, help="file: .ply, .vtu, .csv")
+    exp.add_argument("--field", default="stress_weft", help="field coloured in the PLY")
+    exp.set_defaults(handler=_export)
+
+    sw = commands.add_parser("sweep", help="results of a sweep -> sweep.nc, sweep.csv, design plot")
+    sw.add_argument("--index", required=True, help="JSON list of {case, material, body, reduction}")
+    sw.add_argument("--targets", default="[]", help="JSON list of design targets (for the plot)")
+    sw.add_argument("--root", type=Path, default=Path("."), help="folder holding results/")
+    sw.add_argument("-o", "--output", type=Path, required=True, help="sweep.nc to write")
+    sw.add_argument("--csv", type=Path, required=True, help="sweep.csv to write")
+    sw.add_argument("--plot", type=Path, required=True, help="design plot to write")
+    sw.add_argument(
+        "--body-plot", type=Path,
+        help="small multiples to write: the pressure on the body per body and reduction",
+    )  # fmt: skip
+    sw.set_defaults(handler=_sweep)
+
+    de = commands.add_parser("design", help="sweep.nc -> design.csv: the reduction per target")
+    de.add_argument("sweep", type=Path, help="sweep.nc from cloth sweep")
+    de.add_argument("--targets", required=True, help="JSON list of {landmark, pressure_mmHg}")
+    de.add_argument("-o", "--output", type=Path, required=True, help="design.csv to write")
+    de.set_defaults(handler=_design)
+
+    co = commands.add_parser("confirm", help="design.csv + confirmation results -> errors")
+    co.add_argument("design", type=Path, help="design.csv from cloth design")
+    co.add_argument("--root", type=Path, default=Path("."), help="folder holding results/")
+    co.add_argument("-o", "--output", type=Path, required=True, help="confirmed CSV to write")
+    co.set_defaults(handler=_confirm)
+
+    case = commands.add_parser("case", help="case files: check, write")
+    case_commands = case.add_subparsers(dest="case_command", required=True)
+    case_check = case_commands.add_parser(
+        "check", help="validate a case file and print it with defaults filled"
+    )
+    case_check.add_argument("case", type=Path, help="case YAML file")
+    case_check.set_defaults(handler=_case_check)
+    case_write = case_commands.add_parser(
+        "write", help="validate a case given as JSON and write it as YAML (used by the pipeline)"
+    )
+    case_write.add_argument("--json", required=True, help="the case as a JSON object")
+    case_write.add_argument("-o", "--output", type=Path, required=True, help="case YAML to write")
+    case_write.set_defaults(handler=_case_write)
+    return parser

@@ -1,0 +1,159 @@
+"""The per-case stages before the results: a case file -> initial.nc (`predeform_file`),
+initial.nc -> relaxed.nc (`relax_file`), and every stage into one folder (`run_case`).
+
+Each checks first that the case fits the machine's free memory (`cloth.guard`; ``force`` runs
+it anyway) and writes its files atomically.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import json
+import logging
+from pathlib import Path
+
+from cloth.errors import EXIT_DIVERGED, StageFailed
+
+log = logging.getLogger("cloth")
+
+#: Keys of a case's ``solver`` block that a command line may override.
+SOLVER_KEYS = ("method", "tolerance", "max_iterations", "linear_solver", "log_every",
+               "warm_start")  # fmt: skip
+
+
+def check_fits(stages: tuple[str, ...], case: dict, base_dir: Path, source, force: bool):
+    """Refuse (`InputError`) a case whose estimated memory in ``stages`` exceeds the free."""
+    from cloth import guard
+
+    guard.check_fits(stages, *guard.case_counts(case, base_dir), source, force)
+
+
+def predeform_file(
+    case_path: Path, output: Path, base_dir: Path | None = None, plot: Path | None = None,
+    force: bool = False,
+):  # fmt: skip
+    """case.yaml -> initial.nc (and a 3D figure of the wrapped garment); returns the state.
+    Relative paths in the case are relative to ``base_dir`` (default: the case's folder)."""
+    from cloth.config import load_case
+    from cloth.io import write_netcdf
+    from cloth.predeform import predeform
+    from cloth.state import state_dataset
+
+    case = load_case(case_path)
+    base_dir = case_path.parent if base_dir is None else base_dir
+    check_fits(("predeform",), case, base_dir, case_path, force)
+    state = predeform(case, base_dir, str(case_path))
+    write_netcdf(state_dataset(state, "initial"), output)
+    log.info("wrote %s", output)
+    if plot:
+        _plot_wrapped(state, base_dir, plot, case_path.stem)
+    return state
+
+
+def _plot_wrapped(state, base_dir: Path, path: Path, name: str) -> None:
+    from cloth.bodies import body_from_config
+    from cloth.mechanics import spring_state
+    from cloth.plots import plot_garment_3d
+
+    grid = state.grid
+    strain = spring_state(state.x, grid).strain[grid.family_slices[0]]
+    body, _ = body_from_config(state.case["body"], base_dir)
+    plot_garment_3d(
+        state.x, grid.n, grid.m, strain, "initial weft strain [1]", path, body,
+        title=f"{name}: garment wrapped on the body (before relaxation)",
+    )  # fmt: skip
+
+
+def relax_state(
+    state, base_dir: Path, overrides: dict, output: Path, previous: dict | None = None
+) -> None:
+    """Relax ``state`` (its case's solver block, ``overrides`` on top) and write relaxed.nc.
+    A divergence writes the last finite state to ``*.diverged.nc`` and raises `StageFailed`."""
+    from cloth.bodies import body_from_config
+    from cloth.io import write_netcdf
+    from cloth.relaxfile import relaxed_dataset
+    from cloth.solvers import Diverged, Settings, relax
+
+    settings = Settings(**{**state.case.get("solver", {}), **overrides})
+    body, _ = body_from_config(state.case["body"], base_dir)
+    try:
+        result = relax(state, body, settings)
+    except Diverged as exc:
+        failed = output.with_name(output.stem + ".diverged.nc")
+        write_netcdf(
+            relaxed_dataset(state, exc.x, state.contact, exc.history, settings, False,
+                            len(exc.history) - 1, settings.linear_solver, 0.0, previous,
+                            stage="diverged"),
+            failed,
+        )  # fmt: skip
+        raise StageFailed(
+            f"relaxation diverged ({exc}); the last finite state is in {failed}; try method "
+            "explicit+newton or a smaller reduction",
+            EXIT_DIVERGED,
+        ) from None
+    final = result.final
+    write_netcdf(
+        relaxed_dataset(state, final.x, final.on_body, result.history, settings,
+                        result.converged, result.iterations, result.linear_solver,
+                        result.seconds, previous, factorisations=result.factorisations,
+                        peak_memory=result.peak_memory),
+        output,
+    )  # fmt: skip
+    log.info("wrote %s", output)
+
+
+def relax_file(
+    initial: Path, output: Path, overrides: dict, base_dir: Path | None = None,
+    force: bool = False,
+) -> None:  # fmt: skip
+    """initial.nc -> relaxed.nc; the memory check reads the case from the file's header
+    before its arrays."""
+    import xarray as xr
+
+    from cloth.state import read_state
+
+    base_dir = Path(".") if base_dir is None else base_dir
+    try:
+        with xr.open_dataset(initial) as head:
+            case = json.loads(head.attrs["case"])
+    except Exception:  # read_state reports an unreadable file in one line
+        case = None
+    if case is not None:
+        check_fits(("relax",), case, base_dir, initial, force)
+    state, ds = read_state(initial)
+    relax_state(state, base_dir, overrides, output, dict(ds.attrs))
+
+
+def run_case(
+    case_path: Path, folder: Path, overrides: dict, base_dir: Path | None = None,
+    stop_after: str | None = None, force: bool = False,
+) -> None:  # fmt: skip
+    """Every stage of one case into ``folder``: initial.nc, relaxed.nc, result.nc, summary.csv,
+    figures/ and garment.html (where plotly is installed); ``stop_after`` one of predeform,
+    relax, aggregate."""
+    from cloth.config import load_case
+    from cloth.io import write_netcdf
+    from cloth.predeform import predeform
+    from cloth.stages.results import figures, view, write_result
+    from cloth.state import state_dataset
+
+    case = load_case(case_path)
+    base_dir = case_path.parent if base_dir is None else base_dir
+    check_fits(("predeform", "relax", "aggregate", "figures"), case, base_dir, case_path, force)
+    state = predeform(case, base_dir, str(case_path))
+    initial = state_dataset(state, "initial")
+    write_netcdf(initial, folder / "initial.nc")
+    if stop_after == "predeform":
+        return
+    relax_state(state, base_dir, overrides, folder / "relaxed.nc", dict(initial.attrs))
+    if stop_after == "relax":
+        return
+    result = write_result(folder / "relaxed.nc", folder / "result.nc", folder / "summary.csv",
+                          base_dir)  # fmt: skip
+    if stop_after == "aggregate":
+        return
+    figures(folder / "result.nc", folder / "figures")
+    if importlib.util.find_spec("plotly") is not None:
+        view(result, folder / "garment.html")
+    else:
+        log.warning("plotly is not installed: no garment.html (pip install 'cloth[view]')")

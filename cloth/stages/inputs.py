@@ -1,0 +1,72 @@
+"""The input stages: lab tables -> material.nc (`ingest_material`), a size chart -> the torso as
+a mesh (`torso_file`)."""
+
+from __future__ import annotations
+
+import logging
+from collections.abc import Sequence
+from pathlib import Path
+
+from cloth.errors import InputError
+
+log = logging.getLogger("cloth")
+
+
+def ingest_material(
+    tables: Sequence[Path], directions: Sequence[str] | None, options, output: Path,
+    plot: Path | None = None,
+) -> None:  # fmt: skip
+    """Read ``tables`` (one per direction in ``directions``, or directions from their columns)
+    with `cloth.labtables.IngestOptions` ``options`` into ``output``; log each curve's fit."""
+    from cloth.io import write_netcdf
+    from cloth.labtables import ingest
+    from cloth.materialfile import material_dataset
+    from cloth.plots import plot_material
+
+    if directions and len(directions) != len(tables):
+        raise InputError(
+            f"give --direction once per table ({len(tables)}), got {len(directions)}",
+            field="--direction",
+        )
+    material = ingest(tables, directions, options)
+    ds = material_dataset(material)
+    write_netcdf(ds, output)
+    log.info("wrote %s", output)
+    if plot:
+        plot_material(ds, plot)
+    for direction, data in material.data.items():
+        report = data.report
+        log.info(
+            "%s: %d knots, fit error max %.4g Pa (%.3g %%), rms %.4g Pa (%.3g %%)",
+            direction, material.fabric.curve(direction).n_knots, report.max_error,
+            report.max_error_percent, report.rms_error, report.rms_error_percent,
+        )  # fmt: skip
+
+
+def torso_file(
+    size: str, chart: Path | None, girths_cm: dict[str, float], around: int, rings: int,
+    output: Path,
+) -> None:  # fmt: skip
+    """The parametric torso of ``size`` in ``chart`` (girths overridden in cm) as a mesh."""
+    import dataclasses
+
+    import trimesh
+
+    from cloth.bodies.torso import DEFAULT_CHART, chart_size, torso_mesh
+    from cloth.io import atomic_output
+
+    spec = chart_size(size, chart or DEFAULT_CHART)
+    if girths_cm:
+        spec = dataclasses.replace(
+            spec, girth={**spec.girth, **{k: v / 100 for k, v in girths_cm.items()}}
+        )
+    vertices, faces = torso_mesh(spec, around, rings)
+    mesh = trimesh.Trimesh(vertices, faces, process=False)
+    suffix = output.suffix.lstrip(".").lower() or "ply"
+    with atomic_output(output) as tmp:
+        mesh.export(tmp, file_type=suffix)
+    log.info(
+        "wrote %s: torso %s, %d vertices, %d faces, girths (m) %s",
+        output, spec.name, len(vertices), len(faces),
+        ", ".join(f"{k} {v:.4g}" for k, v in spec.girth.items()),
+    )  # fmt: skip

@@ -1,0 +1,72 @@
+"""The sweep stages: every case's result -> sweep.nc, sweep.csv and the figures of the sweep
+(`sweep_files`), sweep.nc -> design.csv (`design_file`), the confirmation runs -> their errors
+(`confirm_file`). The logic is `cloth.sweep`'s; these join it to the files."""
+
+from __future__ import annotations
+
+import logging
+from pathlib import Path
+
+log = logging.getLogger("cloth")
+
+
+def sweep_files(
+    index: list[dict], targets: list[dict], root: Path, output: Path, csv: Path, plot: Path,
+    body_plot: Path | None = None,
+) -> None:  # fmt: skip
+    """The results of the cases in ``index`` (case, material, body, reduction), under ``root``
+    /results/cases -> sweep.nc, sweep.csv, the design plot and the small multiples on the body."""
+    from cloth.io import read_netcdf, write_netcdf
+    from cloth.sweep import collect, plot_design, sweep_rows, write_rows
+
+    ds = collect(index, root)
+    write_netcdf(ds, output)
+    rows = sweep_rows(ds)
+    write_rows(rows, csv, list(rows[0]) if rows else ["material"])
+    plot_design(ds, targets, plot)
+    if body_plot:
+        from cloth.onbody import plot_sweep_on_body
+
+        several = len({entry["material"] for entry in index}) > 1
+        cases = [
+            (
+                f"{e['material']}, {e['body']}" if several else e["body"], float(e["reduction"]),
+                read_netcdf(root / "results" / "cases" / e["case"] / "result.nc", "result"),
+            )
+            for e in index
+        ]  # fmt: skip
+        plot_sweep_on_body(cases, body_plot)
+
+
+def design_file(sweep: Path, targets: list[dict], output: Path) -> None:
+    """sweep.nc -> design.csv: the reduction that meets each target, interpolated (logged)."""
+    from cloth.io import read_netcdf
+    from cloth.sweep import DESIGN_HEADER, design, write_rows
+
+    rows = design(read_netcdf(sweep, "sweep", ("pressure_mean",)), targets)
+    for row in rows:
+        if row["status"] == "ok":
+            log.info(
+                "%s on %s: %.4g mmHg at the %s needs a reduction of %.4g (to be confirmed)",
+                row["material"], row["body"], row["target_mmHg"], row["landmark"],
+                row["reduction"],
+            )  # fmt: skip
+        else:
+            log.warning("%s on %s: %s", row["material"], row["body"], row["message"])
+    write_rows(rows, output, DESIGN_HEADER)
+
+
+def confirm_file(design: Path, root: Path, output: Path) -> None:
+    """design.csv and the confirmation cases' results under ``root`` -> the confirmed CSV."""
+    from cloth.sweep import confirm, read_design, write_rows
+
+    rows = confirm(read_design(design), root)
+    header = list(dict.fromkeys(k for row in rows for k in row))
+    write_rows(rows, output, header or ["material"])
+    for row in rows:
+        if "confirmed_mmHg" in row:
+            log.info(
+                "%s on %s, %s: reduction %s gives %.4g mmHg (target %s, error %+.2f %%)",
+                row["material"], row["body"], row["landmark"], row["reduction"],
+                row["confirmed_mmHg"], row["target_mmHg"], row["error_percent"],
+            )  # fmt: skip
