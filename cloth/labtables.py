@@ -22,10 +22,7 @@ reduced by `cloth.fitting.fit_monotone` to ``n_knots`` (default `DEFAULT_KNOTS`)
 
 from __future__ import annotations
 
-import csv
 import logging
-import math
-import re
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -36,33 +33,19 @@ from numpy.typing import NDArray
 from cloth.errors import InputError
 from cloth.fitting import FitReport, curve_error, fit_monotone
 from cloth.io import sha256
+from cloth.labcsv import (
+    STRESS_UNITS,
+    LabTable,
+    numbers,
+    pick,
+    positive_mm,
+    read_table,
+    setting,
+    strain_stress,
+)
 from cloth.materials import DIRECTIONS, Fabric, StressStrainCurve
 
 log = logging.getLogger(__name__)
-
-#: Header keys understood in ``# key: value`` comment lines, with their meaning.
-HEADER_KEYS: dict[str, str] = {
-    "name": "fabric name",
-    "direction": "weft, warp or bias, for a file holding one direction",
-    "thickness_mm": "fabric thickness, mm",
-    "specimen_width_mm": "width of the tested strip, mm",
-    "gauge_length_mm": "initial clamp distance, mm (needed with extension_mm)",
-    "areal_density_g_m2": "mass per area, g m-2",
-    "source": "where the data come from",
-}
-
-STRAIN_UNITS = {"strain": 1.0, "strain_percent": 0.01, "elongation_percent": 0.01}
-STRESS_UNITS = {"stress": 1.0, "stress_pa": 1.0, "stress_kpa": 1e3, "stress_mpa": 1e6}
-FORCE_UNITS = {"force_n": 1.0, "force_cn": 1e-2, "force_kn": 1e3}
-EXTENSION_UNITS = {"extension_mm": 1e-3}
-KNOWN_COLUMNS = (
-    set(STRAIN_UNITS)
-    | set(STRESS_UNITS)
-    | set(FORCE_UNITS)
-    | set(EXTENSION_UNITS)
-    | {"direction", "cycle", "branch", "time_s"}
-)
-UNIT_PREFIXES = ("strain_", "stress_", "force_", "extension_", "elongation_")
 
 
 @dataclass(frozen=True)
@@ -132,186 +115,10 @@ class Material:
     data: dict[str, DirectionData] = field(default_factory=dict)
 
 
-@dataclass
-class _Table:
-    path: Path
-    header: dict[str, str]
-    columns: dict[str, list[str]]
-    first_row: int  # 1-based line number of the first data row
-
-
-def _read_csv(path: Path) -> _Table:
-    if not path.is_file():
-        raise InputError("file not found; check the path", source=path)
-    try:
-        text = path.read_text(encoding="utf-8-sig")
-    except UnicodeDecodeError as exc:
-        raise InputError(f"not a UTF-8 text table ({exc.reason}); export it as CSV", path) from None
-    lines = text.splitlines()
-    header: dict[str, str] = {}
-    body_start = 0
-    for number, line in enumerate(lines):
-        stripped = line.strip()
-        if not stripped:
-            continue
-        if stripped.startswith("#"):
-            match = re.match(r"#\s*([A-Za-z_][\w]*)\s*[:=]\s*(.*?)\s*$", stripped)
-            if match and match.group(1).lower() in HEADER_KEYS:
-                header[match.group(1).lower()] = match.group(2)
-            continue
-        body_start = number
-        break
-    else:
-        raise InputError("the file has no header row and no data; export the table again", path)
-    reader = csv.reader(lines[body_start:])
-    names = [name.strip() for name in next(reader)]
-    keys = [name.lower() for name in names]
-    for name, key in zip(names, keys, strict=True):
-        if key in KNOWN_COLUMNS:
-            continue
-        if key.startswith(UNIT_PREFIXES):
-            prefix = key.split("_", 1)[0]
-            known = sorted(c for c in KNOWN_COLUMNS if c.startswith(prefix))
-            raise InputError(
-                f"unknown unit in column {name!r}; use one of {', '.join(known)}", path, name
-            )
-        if key:
-            raise InputError(
-                f"unknown column {name!r}; known columns are {', '.join(sorted(KNOWN_COLUMNS))}",
-                path,
-                name,
-            )
-    if len(set(keys)) != len(keys):
-        raise InputError("a column name appears twice; rename one", path, "header")
-    columns: dict[str, list[str]] = {key: [] for key in keys}
-    for row_number, row in enumerate(reader, start=body_start + 2):
-        if not row or all(not cell.strip() for cell in row) or row[0].lstrip().startswith("#"):
-            continue
-        if len(row) != len(keys):
-            raise InputError(
-                f"row has {len(row)} cells but the header has {len(keys)}; fix the row",
-                path,
-                f"row {row_number}",
-            )
-        for key, cell in zip(keys, row, strict=True):
-            columns[key].append(cell.strip())
-        columns.setdefault("_row", []).append(str(row_number))
-    if not columns.get("_row"):
-        raise InputError("the table has a header but no data rows; add the measurements", path)
-    return _Table(path, header, columns, body_start + 2)
-
-
-def _numbers(table: _Table, key: str) -> NDArray[np.float64]:
-    values = np.empty(len(table.columns[key]))
-    for index, cell in enumerate(table.columns[key]):
-        try:
-            values[index] = float(cell)
-        except ValueError:
-            raise InputError(
-                f"cell {cell!r} in column {key!r} is not a number; fix or delete the row",
-                table.path,
-                f"row {table.columns['_row'][index]}",
-            ) from None
-        if not math.isfinite(values[index]):
-            raise InputError(
-                f"cell {cell!r} in column {key!r} is not finite; delete the row",
-                table.path,
-                f"row {table.columns['_row'][index]}",
-            )
-    return values
-
-
-def _pick(table: _Table, units: dict[str, float]) -> tuple[str, float] | None:
-    found = [key for key in units if key in table.columns]
-    if len(found) > 1:
-        raise InputError(
-            f"columns {', '.join(found)} say the same thing; keep one", table.path, found[1]
-        )
-    return (found[0], units[found[0]]) if found else None
-
-
-def _positive(value: object, what: str, table: _Table, option: str) -> float:
-    try:
-        number = float(value)  # type: ignore[arg-type]
-    except (TypeError, ValueError):
-        number = float("nan")
-    if not math.isfinite(number) or number <= 0:
-        raise InputError(
-            f"{what} must be a positive number in mm, got {value!r}; set '# {option}: <mm>' in "
-            f"the header or the {option} option",
-            table.path,
-            option,
-        )
-    return number
-
-
-def _setting(table: _Table, options: IngestOptions, key: str) -> object:
-    value = getattr(options, key)
-    return value if value is not None else table.header.get(key)
-
-
-def _strain_stress(table: _Table, options: IngestOptions) -> tuple[NDArray, NDArray]:
-    """Strain (1) and stress (Pa) of every row."""
-    strain_col = _pick(table, STRAIN_UNITS)
-    extension_col = _pick(table, EXTENSION_UNITS)
-    if strain_col is not None:
-        strain = _numbers(table, strain_col[0]) * strain_col[1]
-    elif extension_col is not None:
-        gauge = _setting(table, options, "gauge_length_mm")
-        if gauge is None:
-            raise InputError(
-                "extension_mm needs the gauge length; set '# gauge_length_mm: <mm>' in the header",
-                table.path,
-                "gauge_length_mm",
-            )
-        gauge_mm = _positive(gauge, "the gauge length", table, "gauge_length_mm")
-        strain = _numbers(table, extension_col[0]) * extension_col[1] / (gauge_mm * 1e-3)
-    else:
-        raise InputError(
-            "missing strain column; add one of strain, strain_percent, elongation_percent or "
-            "extension_mm",
-            table.path,
-            "header",
-        )
-    stress_col = _pick(table, STRESS_UNITS)
-    force_col = _pick(table, FORCE_UNITS)
-    if stress_col is not None:
-        stress = _numbers(table, stress_col[0]) * stress_col[1]
-    elif force_col is not None:
-        width = _setting(table, options, "specimen_width_mm")
-        thickness = _setting(table, options, "thickness_mm")
-        if width is None:
-            raise InputError(
-                "force data need the strip width; set '# specimen_width_mm: <mm>' in the header",
-                table.path,
-                "specimen_width_mm",
-            )
-        if thickness is None:
-            raise InputError(
-                "force data need the fabric thickness; set '# thickness_mm: <mm>' in the header",
-                table.path,
-                "thickness_mm",
-            )
-        area = (
-            _positive(width, "the specimen width", table, "specimen_width_mm")
-            * _positive(thickness, "the thickness", table, "thickness_mm")
-            * 1e-6
-        )
-        stress = _numbers(table, force_col[0]) * force_col[1] / area
-    else:
-        raise InputError(
-            "missing stress column; add one of stress, stress_Pa, stress_kPa, stress_MPa, "
-            "force_N, force_cN or force_kN",
-            table.path,
-            "header",
-        )
-    return strain, stress
-
-
-def _select(table: _Table, options: IngestOptions, rows: NDArray[np.bool_]) -> NDArray[np.bool_]:
+def _select(table: LabTable, options: IngestOptions, rows: NDArray[np.bool_]) -> NDArray[np.bool_]:
     """Rows of the chosen cycle and branch, among ``rows``."""
     if "cycle" in table.columns:
-        cycles = _numbers(table, "cycle")
+        cycles = numbers(table, "cycle")
         wanted = np.max(cycles[rows]) if options.cycle is None else float(options.cycle)
         if not np.any(rows & (cycles == wanted)):
             raise InputError(
@@ -338,7 +145,7 @@ def _select(table: _Table, options: IngestOptions, rows: NDArray[np.bool_]) -> N
     return rows
 
 
-def _directions(table: _Table, direction: str | None) -> NDArray[np.str_]:
+def _directions(table: LabTable, direction: str | None) -> NDArray[np.str_]:
     count = len(table.columns["_row"])
     if "direction" in table.columns:
         values = np.array([d.lower() for d in table.columns["direction"]])
@@ -362,7 +169,7 @@ def _directions(table: _Table, direction: str | None) -> NDArray[np.str_]:
     return values
 
 
-def _clean_checks(table: _Table, strain: NDArray, rows: NDArray[np.bool_]) -> None:
+def _clean_checks(table: LabTable, strain: NDArray, rows: NDArray[np.bool_]) -> None:
     """A clean curve must list strictly increasing strains (its rows are knots)."""
     index = np.flatnonzero(rows)
     steps = np.diff(strain[index])
@@ -457,13 +264,13 @@ def ingest(
     header: dict[str, str] = {}
     provenance: dict[str, str] = {"ingest_options": repr(options)}
     for index, (raw_path, direction) in enumerate(zip(paths, directions, strict=True)):
-        table = _read_csv(Path(raw_path))
+        table = read_table(Path(raw_path))
         header = {**table.header, **header}
         provenance[f"table_{index}"] = str(table.path)
         provenance[f"table_{index}_sha256"] = sha256(table.path)
-        strain, stress = _strain_stress(table, options)
+        strain, stress = strain_stress(table, options)
         cyclic = "branch" in table.columns or "cycle" in table.columns
-        clean = _pick(table, STRESS_UNITS) is not None
+        clean = pick(table, STRESS_UNITS) is not None
         dirs = _directions(table, direction)
         for name in dict.fromkeys(dirs):
             if name in curves:
@@ -495,9 +302,9 @@ def ingest(
                 data[name].report.max_error_percent,
                 data[name].report.rms_error,
             )
-        if thickness is None and _setting(table, options, "thickness_mm") is not None:
-            value = _setting(table, options, "thickness_mm")
-            thickness = _positive(value, "the thickness", table, "thickness_mm") * 1e-3
+        if thickness is None and setting(table, options, "thickness_mm") is not None:
+            value = setting(table, options, "thickness_mm")
+            thickness = positive_mm(value, "the thickness", table, "thickness_mm") * 1e-3
     missing = [d for d in ("weft", "warp") if d not in curves]
     if missing:
         raise InputError(
