@@ -23,7 +23,8 @@ import trimesh
 from _table import markdown_table, median_seconds, replace_section
 
 from cloth.bodies.mesh import MeshBody
-from cloth.bodies.surface import FitOptions, SmoothMeshBody, fit_surface
+from cloth.bodies.smoothmesh import SmoothMeshBody
+from cloth.bodies.surface import FitOptions, fit_surface
 
 RADIUS = 0.15
 

@@ -8,8 +8,9 @@ import trimesh
 
 from cloth.bodies.mesh import MeshBody
 from cloth.bodies.refine import auto_levels, phong_refine
+from cloth.bodies.smoothmesh import SmoothMeshBody
 from cloth.bodies.spline import SplineField
-from cloth.bodies.surface import FitOptions, SmoothMeshBody, fit_surface
+from cloth.bodies.surface import FitOptions, fit_surface
 from cloth.bodies.surfacefile import load_or_fit, read_surface
 from cloth.cli import main
 from tests.conftest import capped_cylinder, write_obj

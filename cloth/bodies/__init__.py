@@ -8,7 +8,9 @@
 * `cloth.bodies.torso`: the parametric torso from a size chart, its mesh and smooth surface;
 * `cloth.bodies.spline`: the cubic B-spline field the fitted surfaces are made of;
 * `cloth.bodies.surface`: the smooth surface fitted to any mesh (the default contact surface
-  of a mesh body); `cloth.bodies.surfacefile`: its file and cache;
+  of a mesh body); `cloth.bodies.smoothmesh`: the mesh body contacted through it;
+  `cloth.bodies.surfacefile`: its file and cache;
+* `cloth.bodies.drawing`: a result's body as triangles for figures;
 * `cloth.bodies.check`: `cloth body check`;
 * `cloth.bodies.factory`: the body of a case's ``body`` block.
 """

@@ -23,11 +23,11 @@ import numpy as np
 import xarray as xr
 
 from cloth.bodies.mesh import MeshBody
+from cloth.bodies.smoothmesh import SmoothMeshBody
 from cloth.bodies.spline import SplineField
 from cloth.bodies.surface import (
     DEFAULT_OPTIONS,
     FitOptions,
-    SmoothMeshBody,
     SurfaceFit,
     fit_surface,
     mesh_key,
