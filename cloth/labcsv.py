@@ -11,15 +11,22 @@ import math
 import re
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import Protocol
 
 import numpy as np
 from numpy.typing import NDArray
 
 from cloth.errors import InputError
 
-if TYPE_CHECKING:
-    from cloth.labtables import IngestOptions
+
+class SectionOptions(Protocol):
+    """What converting forces to stresses needs besides the table (`cloth.labtables.IngestOptions`
+    has these; None: from the table's header)."""
+
+    thickness_mm: float | None
+    specimen_width_mm: float | None
+    gauge_length_mm: float | None
+
 
 #: Header keys understood in ``# key: value`` comment lines, with their meaning.
 HEADER_KEYS: dict[str, str] = {
@@ -166,13 +173,13 @@ def positive_mm(value: object, what: str, table: LabTable, option: str) -> float
     return number
 
 
-def setting(table: LabTable, options: IngestOptions, key: str) -> object:
+def setting(table: LabTable, options: SectionOptions, key: str) -> object:
     """Option ``key``: given in ``options``, else from the table's header (or None)."""
     value = getattr(options, key)
     return value if value is not None else table.header.get(key)
 
 
-def strain_stress(table: LabTable, options: IngestOptions) -> tuple[NDArray, NDArray]:
+def strain_stress(table: LabTable, options: SectionOptions) -> tuple[NDArray, NDArray]:
     """Strain (1) and stress (Pa) of every row."""
     strain_col = pick(table, STRAIN_UNITS)
     extension_col = pick(table, EXTENSION_UNITS)
