@@ -1,11 +1,18 @@
 # cloth: stress and body pressure of stretch fabric worn on a body.
 # This file is a table of contents: the rules live in workflow/rules/, one file per stage.
+import os
+
 from snakemake.utils import min_version, validate
 
 min_version("9.0")
 
+# the working directory's config/config.yaml, else the bundled default (any working directory)
+DEFAULT_CONFIG = "config/config.yaml"
+if not os.path.exists(DEFAULT_CONFIG):
+    DEFAULT_CONFIG = os.path.join(workflow.basedir, DEFAULT_CONFIG)
 
-configfile: "config/config.yaml"
+
+configfile: DEFAULT_CONFIG
 
 
 validate(config, "workflow/schemas/config.schema.yaml")

@@ -66,15 +66,17 @@ def _surface_cache(tmp_path_factory):
 
 @pytest.fixture(scope="session")
 def tiny_run(tmp_path_factory):
-    """The tiny pipeline (config/ci.yaml) run once locally: (folder, result, wall seconds),
-    shared by the pipeline's end-to-end test and the cluster test's reference."""
+    """The tiny pipeline (config/ci.yaml) run once locally from an empty working directory
+    (``snakemake -s .../Snakefile --directory``: the workflow finds its bundled data beside
+    itself): (folder, result, wall seconds), shared by the pipeline's end-to-end test and the
+    cluster test's reference."""
     import time
 
-    from tests.pipeline import snakemake, workspace
+    from tests.pipeline import from_checkout, snakemake
 
-    where = workspace(tmp_path_factory.mktemp("tiny"))
+    where = tmp_path_factory.mktemp("tiny")
     start = time.perf_counter()
-    result = snakemake(where, "--configfile", "config/ci.yaml")
+    result = snakemake(where, *from_checkout(where))
     return where, result, time.perf_counter() - start
 
 

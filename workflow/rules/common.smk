@@ -6,8 +6,9 @@ import shlex
 from snakemake.logging import logger
 
 from cloth import __version__ as CLOTH_VERSION
-from cloth.config import validate_case
 from cloth.errors import InputError
+from cloth.plan import body_files as plan_body_files
+from cloth.plan import local_body, make_plan
 from cloth.resources import stage_resources, surface_resources
 
 
@@ -23,8 +24,7 @@ def material_config(name):
 
 def material_tables(wildcards):
     """The lab table(s) of a material, as a list of paths."""
-    table = material_config(wildcards.material)["table"]
-    return [table] if isinstance(table, str) else list(table)
+    return PLAN.material_tables(wildcards.material)
 
 
 INGEST_FLAGS = {
@@ -51,131 +51,16 @@ def ingest_flags(wildcards):
     return " ".join(shlex.quote(flag) for flag in flags)
 
 
-def with_surface(body, name):
-    """A body block whose smooth surface (a mesh body's default) is the pipeline's file
-    results/bodies/{name}.surface.nc, made once by rule body_surface for every case on it.
-    """
-    if "mesh" not in body or body.get("surface", "smooth") != "smooth":
-        return body
-    return {"surface_file": f"results/bodies/{name}.surface.nc", **body}
-
-
 def body_block(name):
-    """The body block of a body name: a configured body, or case-{case} for a case's own."""
+    """The body block of a body name (a configured body, or case-{case} for a case's own),
+    its files found."""
     if name.startswith("case-") and name[5:] in config.get("cases", {}):
-        return config["cases"][name[5:]]["body"]
-    return config["bodies"][name]
+        return local_body(config["cases"][name[5:]]["body"], name, workflow.basedir)
+    return local_body(config["bodies"][name], name, workflow.basedir)
 
 
-def resolved_case(name, block=None):
-    """Case ``name`` (of the config, or the given block) with its material as the ingested
-    file, validated."""
-    if block is None:
-        block = dict(config.get("cases", {})[name])
-        bodies = config.get("bodies", {})
-        same = [key for key, body in bodies.items() if body == block["body"]]
-        block["body"] = with_surface(block["body"], same[0] if same else f"case-{name}")
-    block = dict(block)
-    material = block.get("material")
-    if material not in config["materials"]:
-        raise InputError(
-            f"material {material!r} is not defined under materials "
-            f"({', '.join(sorted(config['materials']))})",
-            "config",
-            f"cases.{name}.material",
-        )
-    block["material"] = f"results/materials/{material}.nc"
-    return validate_case(block, f"config: cases.{name}")
-
-
-def reduction_tag(reduction):
-    return f"r{round(1000 * reduction):03d}"
-
-
-def sweep_cases():
-    """Case blocks of the sweep, by readable name, with what the sweep stage needs to know."""
-    sweep = config.get("sweep")
-    if not sweep:
-        return {}, []
-    bodies = config.get("bodies", {})
-    blocks, index = {}, []
-    for key, names, pool in (
-        ("sweep.materials", sweep["materials"], config["materials"]),
-        ("sweep.bodies", sweep["bodies"], bodies),
-    ):
-        for name in names:
-            if name not in pool:
-                raise InputError(
-                    f"{name!r} is not defined ({', '.join(sorted(pool)) or 'none defined'})",
-                    "config",
-                    key,
-                )
-    for material in sweep["materials"]:
-        for body in sweep["bodies"]:
-            for reduction in sweep["reductions"]:
-                name = f"{material}__{body}__{reduction_tag(reduction)}"
-                blocks[name] = {
-                    "material": material,
-                    "body": with_surface(bodies[body], body),
-                    "garment": {**sweep["garment"], "reduction": reduction},
-                    "solver": sweep.get("solver", {}),
-                }
-                index.append(
-                    {
-                        "case": name,
-                        "material": material,
-                        "body": body,
-                        "reduction": reduction,
-                    }
-                )
-    return blocks, index
-
-
-TORSO_LANDMARKS = ("hip", "waist", "underbust", "bust")
-
-
-def check_targets():
-    """Targets need one pressure and a girth line the sweep's bodies have (known in advance:
-    the torso's four lines; other bodies get 'middle' or girth_min_N / girth_max_N)."""
-    sweep = config.get("sweep") or {}
-    bodies = [
-        config.get("bodies", {}).get(name, {}) for name in sweep.get("bodies", [])
-    ]
-    for number, target in enumerate(config.get("targets", [])):
-        if ("pressure_mmHg" in target) == ("pressure_kPa" in target):
-            raise InputError(
-                "give exactly one of pressure_mmHg or pressure_kPa",
-                "config",
-                f"targets.{number}",
-            )
-        name = target["landmark"]
-        torso_only = bool(bodies) and all("torso" in body for body in bodies)
-        if torso_only and name not in TORSO_LANDMARKS:
-            raise InputError(
-                f"unknown landmark {name!r}; the torso has {', '.join(TORSO_LANDMARKS)}",
-                "config",
-                f"targets.{number}.landmark",
-            )
-        if not (
-            name in TORSO_LANDMARKS or name == "middle" or name.startswith("girth_")
-        ):
-            raise InputError(
-                f"unknown landmark {name!r}; use hip, waist, underbust, bust (torso), middle, "
-                "or girth_min_N / girth_max_N (other bodies)",
-                "config",
-                f"targets.{number}.landmark",
-            )
-
-
-SWEEP_BLOCKS, SWEEP_INDEX = sweep_cases()
-check_targets()
-for _name in SWEEP_BLOCKS:
-    if _name in config.get("cases", {}):
-        raise InputError(
-            "a case of this name is also in the sweep", "config", f"cases.{_name}"
-        )
-CASES = {name: resolved_case(name) for name in config.get("cases", {})}
-CASES.update({name: resolved_case(name, block) for name, block in SWEEP_BLOCKS.items()})
+PLAN = make_plan(config, workflow.basedir)
+SWEEP_BLOCKS, SWEEP_INDEX, CASES = PLAN.sweep, PLAN.index, PLAN.cases
 
 
 def case_block(name):
@@ -187,14 +72,7 @@ def case_block(name):
 
     for row in read_design(checkpoints.design.get().output[0]):
         if row["status"] == "ok" and confirm_name(row) == name:
-            sweep = config["sweep"]
-            block = {
-                "material": row["material"],
-                "body": with_surface(config["bodies"][row["body"]], row["body"]),
-                "garment": {**sweep["garment"], "reduction": float(row["reduction"])},
-                "solver": sweep.get("solver", {}),
-            }
-            return resolved_case(name, block)
+            return PLAN.case(name, PLAN.design_case(row))
     raise InputError(
         "no such case in the config, the sweep or the design", "config", name
     )
@@ -206,15 +84,7 @@ def case_json(wildcards):
 
 def body_files(wildcards):
     """Files the body of a case reads (mesh or size chart), so edits rerun the case."""
-    body = case_block(wildcards.case)["body"]
-    if "mesh" in body:
-        return [
-            body["mesh"],
-            *([body["surface_file"]] if "surface_file" in body else []),
-        ]
-    if "torso" in body:
-        return [body["torso"].get("chart", "data/bodies/size_chart.csv")]
-    return []
+    return plan_body_files(case_block(wildcards.case))
 
 
 def case_material(wildcards):
@@ -223,7 +93,7 @@ def case_material(wildcards):
 
 def torso_flags(wildcards):
     """`cloth body torso` flags of a torso body block."""
-    spec = config["bodies"][wildcards.body]["torso"]
+    spec = body_block(wildcards.body)["torso"]
     flags = ["--size", spec["size"]]
     for key in ("chart", "around", "rings"):
         if key in spec:

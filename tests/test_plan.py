@@ -1,0 +1,96 @@
+"""The pipeline's plan from its config: case names, the sweep's expansion, the checks of
+targets and names, the design's confirmation cases, and finding bundled files."""
+
+from __future__ import annotations
+
+import copy
+from pathlib import Path
+
+import pytest
+import yaml
+
+from cloth.errors import InputError
+from cloth.plan import body_files, data_path, local_body, make_plan, reduction_tag, sweep_name
+
+ROOT = Path(__file__).resolve().parents[1]
+CONFIG = yaml.safe_load((ROOT / "config/config.yaml").read_text())
+
+
+def test_the_default_sweep_expands_to_every_material_body_and_reduction():
+    plan = make_plan(CONFIG, ROOT)
+    sweep = CONFIG["sweep"]
+    count = len(sweep["materials"]) * len(sweep["bodies"]) * len(sweep["reductions"])
+    assert len(plan.index) == len(plan.sweep) == len(plan.cases) == count == 8
+    assert "powernet__torso_M__r150" in plan.cases
+    case = plan.cases["powernet__torso_S__r250"]
+    assert case["garment"]["reduction"] == 0.25 and case["body"]["torso"]["size"] == "S"
+    assert case["material"] == "results/materials/powernet.nc"
+    assert [e["reduction"] for e in plan.index[:4]] == sweep["reductions"]
+
+
+def test_names_of_sweep_cases():
+    assert reduction_tag(0.15) == "r150" and reduction_tag(0.05) == "r050"
+    assert reduction_tag(0.1 + 0.2) == "r300"  # rounding, not truncation
+    assert sweep_name("lycra", "scan", 0.2) == "lycra__scan__r200"
+
+
+@pytest.mark.parametrize(
+    ("change", "field"),
+    [
+        (lambda c: c["sweep"].update(bodies=["torso_XL"]), "sweep.bodies"),
+        (lambda c: c["sweep"].update(materials=["silk"]), "sweep.materials"),
+        (lambda c: c.update(targets=[{"landmark": "knee", "pressure_mmHg": 20}]), "targets.0"),
+        (lambda c: c.update(targets=[{"landmark": "waist"}]), "targets.0"),
+        (
+            lambda c: c.update(
+                cases={
+                    "powernet__torso_M__r150": {
+                        "material": "powernet",
+                        "body": {"torso": {"size": "M"}},
+                    }
+                }
+            ),
+            "cases.powernet__torso_M__r150",
+        ),
+        (
+            lambda c: c.update(
+                cases={"mine": {"material": "silk", "body": {"torso": {"size": "M"}}}}
+            ),
+            "cases.mine.material",
+        ),
+    ],
+)
+def test_a_bad_config_is_refused_naming_its_key(change, field):
+    config = copy.deepcopy(CONFIG)
+    change(config)
+    with pytest.raises(InputError) as error:
+        make_plan(config, ROOT)
+    assert error.value.field.startswith(field)
+
+
+def test_a_confirmation_case_is_the_sweeps_case_at_the_designed_reduction():
+    plan = make_plan(CONFIG, ROOT)
+    row = {"material": "powernet", "body": "torso_M", "reduction": "0.1733"}
+    block = plan.case("confirm", plan.design_case(row))
+    reference = plan.cases["powernet__torso_M__r150"]
+    assert block["garment"] == {**reference["garment"], "reduction": 0.1733}
+    assert block["body"] == reference["body"] and block["solver"] == reference["solver"]
+
+
+def test_files_are_found_where_given_else_beside_the_workflow(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)  # an empty working directory
+    table = "data/materials/powernet.csv"
+    assert data_path(table, ROOT) == str(ROOT / table)  # the bundled copy
+    (tmp_path / "data/materials").mkdir(parents=True)
+    (tmp_path / table).write_text("mine")
+    assert data_path(table, ROOT) == table  # the user's own, relative to the working directory
+    assert data_path("nowhere.csv", ROOT) == "nowhere.csv"  # left for the rule to report
+    body = local_body({"mesh": "scans/me.obj", "units": "mm"}, "me", ROOT)
+    assert body["surface_file"] == "results/bodies/me.surface.nc"
+    assert local_body({"mesh": "m.obj", "surface": "mesh"}, "m") == {"mesh": "m.obj",
+                                                                     "surface": "mesh"}  # fmt: skip
+    assert body_files({"body": body}) == ["scans/me.obj", "results/bodies/me.surface.nc"]
+    assert Path(body_files({"body": {"torso": {"size": "M"}}})[0]).is_file()  # the chart
+    assert make_plan(CONFIG, ROOT).material_tables("powernet") == [table]  # the user's, here
+    (tmp_path / table).unlink()
+    assert make_plan(CONFIG, ROOT).material_tables("powernet") == [str(ROOT / table)]
