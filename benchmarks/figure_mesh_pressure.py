@@ -23,8 +23,8 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-from cloth.aggregate import MMHG
 from cloth.io import atomic_output
+from cloth.pressure import MMHG
 from tests.conftest import capped_cylinder, write_obj
 from tests.test_relax import hoop_tension, pressure, solve, tube
 

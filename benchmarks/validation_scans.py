@@ -27,10 +27,12 @@ from pathlib import Path
 import numpy as np
 from _table import markdown_table, replace_section
 
-from cloth.aggregate import MMHG, landmarks, node_fields
+from cloth.aggregate import node_fields
 from cloth.bodies import body_from_config
 from cloth.bodies.torso import LANDMARKS, chart_size, torso_mesh
+from cloth.landmarks import landmarks
 from cloth.predeform import predeform
+from cloth.pressure import MMHG
 from cloth.solvers import Settings, relax
 
 DOC = Path(__file__).resolve().parents[1] / "docs" / "validation.md"

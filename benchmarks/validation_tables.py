@@ -15,10 +15,9 @@ from pathlib import Path
 import numpy as np
 from _table import markdown_table, replace_section
 
-from cloth.aggregate import MMHG
 from cloth.bodies import EllipticCylinder, body_from_config
 from cloth.predeform import predeform
-from cloth.pressure import contact_reaction, node_area
+from cloth.pressure import MMHG, contact_reaction, node_area
 from cloth.solvers import Settings, relax
 
 DOC = Path(__file__).resolve().parents[1] / "docs" / "validation.md"

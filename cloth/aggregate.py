@@ -20,40 +20,17 @@ knitted garments they fall in, and the mean hoop tension.
 
 from __future__ import annotations
 
-import json
 import logging
 from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
 
-from cloth.grid import WARP, WEFT, Grid
+from cloth.grid import SLIDING, WARP, WEFT, Grid
 from cloth.mechanics import SpringState
 from cloth.pressure import contact_reaction, node_area
-from cloth.state import SLIDING
 
 log = logging.getLogger(__name__)
-
-MMHG = 133.322  # Pa
-#: RAL-GZ 387 medical compression classes, mmHg (class: lower, upper).
-RAL_CLASSES = (("I", 18.0, 21.0), ("II", 23.0, 32.0), ("III", 34.0, 46.0), ("IV", 49.0, np.inf))
-#: Comfort groups of knitted compression garments, kPa.
-COMFORT_GROUPS = (("I", 0.4, 1.3), ("II", 1.3, 2.0), ("III", 2.0, 3.3), ("IV", 3.3, np.inf))
-
-
-def ral_class(mmhg: float) -> str:
-    """RAL-GZ 387 class of a pressure in mmHg ('-' below class I or between classes)."""
-    for name, low, high in RAL_CLASSES:
-        if low <= mmhg <= high:
-            return name
-    return "-"
-
-
-def comfort_group(kpa: float) -> str:
-    for name, low, high in COMFORT_GROUPS:
-        if low <= kpa < high:
-            return name
-    return "-"
 
 
 def node_average(grid: Grid, values: NDArray[np.float64], family: int) -> NDArray[np.float64]:
@@ -120,7 +97,7 @@ class Fields:
     area: NDArray[np.float64]
     reaction: NDArray[np.float64]
     edge_support: NDArray[np.float64]
-    contact: NDArray[np.int8]
+    on_body: NDArray[np.int8]
     total_force: NDArray[np.float64]
     total_moment: NDArray[np.float64]
     normal_force: float
@@ -186,99 +163,12 @@ def node_fields(
         area=area,
         reaction=reaction,
         edge_support=edge_support,
-        contact=held.astype(np.int8),
+        on_body=held.astype(np.int8),
         total_force=reaction.sum(axis=0) * -1.0,  # the fabric's force on the body
         total_moment=-np.cross(x, reaction).sum(axis=0),
         normal_force=float(magnitude.sum()),
         pressure_integral=float(np.sum(pressure * area)),
     )
-
-
-#: Girth-line summary variables: Landmark attribute, units, long name (result.nc, sweep.nc).
-LANDMARK_FIELDS = {
-    "pressure_mean": ("mean", "Pa", "mean pressure on the girth line"),
-    "pressure_max": ("max", "Pa", "max pressure on the girth line"),
-    "pressure_min": ("min", "Pa", "min pressure on the girth line"),
-    "tension_mean": ("tension", "N m-1", "mean weft tension on the girth line"),
-}
-
-
-@dataclass(frozen=True)
-class Landmark:
-    name: str
-    height: float  # m
-    row: int
-    mean: float  # Pa
-    max: float
-    min: float
-    tension: float  # N m-1, mean hoop tension of the row
-
-    def record(self) -> dict[str, object]:
-        """A summary row with Pa, kPa, mmHg and the classes."""
-        return {
-            "landmark": self.name,
-            "height_m": self.height,
-            "row": self.row,
-            "pressure_mean_Pa": self.mean,
-            "pressure_max_Pa": self.max,
-            "pressure_min_Pa": self.min,
-            "pressure_mean_kPa": self.mean / 1e3,
-            "pressure_mean_mmHg": self.mean / MMHG,
-            "pressure_max_mmHg": self.max / MMHG,
-            "pressure_min_mmHg": self.min / MMHG,
-            "ral_gz_387_class": ral_class(self.mean / MMHG),
-            "comfort_group": comfort_group(self.mean / 1e3),
-            "tension_weft_mean_N_per_m": self.tension,
-        }
-
-
-def landmarks(
-    heights: dict[str, float], x: NDArray[np.float64], fields: Fields, grid: Grid
-) -> list[Landmark]:
-    """Pressure and tension summaries along the grid rows nearest each landmark height."""
-    rows_z = x.reshape(grid.m, grid.n, 3)[..., 2].mean(axis=1)
-    pressure = fields.pressure.reshape(grid.m, grid.n)
-    contact = fields.contact.reshape(grid.m, grid.n).astype(bool)
-    tension = fields.tension_weft.reshape(grid.m, grid.n)
-    out = []
-    for name, height in sorted(heights.items(), key=lambda item: item[1]):
-        half = 0.5 * float(np.max(np.abs(np.diff(rows_z)))) if grid.m > 1 else 0.0
-        if not rows_z.min() - half <= height <= rows_z.max() + half:
-            continue
-        row = int(np.argmin(np.abs(rows_z - height)))
-        values = np.where(contact[row], pressure[row], 0.0)
-        out.append(
-            Landmark(
-                name,
-                float(height),
-                row,
-                float(values.mean()),
-                float(values.max()),
-                float(values.min()),
-                float(np.nanmean(tension[row])),
-            )
-        )
-    return out
-
-
-def girth_extrema(state) -> dict[str, float]:
-    """Landmarks of a body without a size chart: the rows where the body's hull girth has an
-    interior minimum or maximum (e.g. a waist, a hip), else the middle row."""
-    raw = state.attrs.get("hull_girth", "[]")
-    girth = np.asarray(json.loads(raw) if isinstance(raw, str) else raw, dtype=float)
-    z = state.x.reshape(state.grid.m, state.grid.n, 3)[..., 2].mean(axis=1)
-    out: dict[str, float] = {}
-    if girth.size == state.grid.m and girth.size >= 3:
-        d = np.diff(girth)
-        scale = max(float(np.ptp(girth)), 1e-12)
-        for j in range(1, girth.size - 1):
-            if abs(d[j - 1]) < 1e-6 * scale and abs(d[j]) < 1e-6 * scale:
-                continue  # flat: a cylinder has no extrema
-            if d[j - 1] < 0 <= d[j]:
-                out[f"girth_min_{len(out) + 1}"] = float(z[j])
-            elif d[j - 1] > 0 >= d[j]:
-                out[f"girth_max_{len(out) + 1}"] = float(z[j])
-    return out or {"middle": float(0.5 * (z.min() + z.max()))}
 
 
 def lab_range_variables(state, strain: NDArray[np.float64]) -> dict:

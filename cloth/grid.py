@@ -37,6 +37,9 @@ from numpy.typing import ArrayLike, NDArray
 from cloth.errors import InputError, require_positive
 from cloth.materials import Fabric, StressStrainCurve
 
+#: Node kinds: free, held on the body's surface at its height (sliding), fixed.
+FREE, SLIDING, FIXED = 0, 1, 2
+
 FAMILIES: tuple[str, ...] = ("weft", "warp", "shear", "bend")
 WEFT, WARP, SHEAR, BEND = range(4)
 

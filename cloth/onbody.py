@@ -129,7 +129,7 @@ def _girth_rows(ds: xr.Dataset) -> list[tuple[str, int, int]]:
 
 def _girth_value(ds: xr.Dataset, variable: str, scale: float, row: int, index: int) -> float:
     if variable == "pressure_mmHg" and "pressure_mean" in ds:
-        from cloth.aggregate import MMHG
+        from cloth.pressure import MMHG
 
         return float(ds["pressure_mean"][index]) / MMHG  # the summary's girth-line mean
     return float(np.nanmean(ds[variable].values[row])) * scale

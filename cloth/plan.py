@@ -19,9 +19,7 @@ from pathlib import Path
 
 from cloth.config import validate_case
 from cloth.errors import InputError
-
-#: The parametric torso's girth lines, which targets on torsos may name.
-TORSO_LANDMARKS = ("hip", "waist", "underbust", "bust")
+from cloth.landmarks import TORSO_LANDMARKS
 
 
 def data_path(path: str, base: str | Path | None) -> str:

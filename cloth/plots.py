@@ -203,7 +203,7 @@ def plot_result(
     """Every figure of a result: stress maps (the paper's Figure 4), the garment in 3D (its
     Figure 3), pressure in mmHg with the RAL class bounds, landmark profiles, convergence,
     material curves. Fixed colour ranges (Pa, mmHg) make runs comparable."""
-    from cloth.aggregate import RAL_CLASSES
+    from cloth.pressure import RAL_CLASSES
 
     folder = Path(folder)
     s_lo, s_hi = stress_range or (None, None)

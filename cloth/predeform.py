@@ -32,9 +32,9 @@ from cloth.bodies import Body, body_from_config, hull_polygon, loop_around, poly
 from cloth.bodies.sections import loop_area
 from cloth.config import validate_case
 from cloth.errors import InputError
-from cloth.grid import build_grid
+from cloth.grid import FIXED, FREE, SLIDING, build_grid
 from cloth.materialfile import load_fabric
-from cloth.state import FIXED, FREE, SLIDING, State, grid_fabric
+from cloth.state import State, grid_fabric
 
 log = logging.getLogger(__name__)
 
@@ -191,7 +191,7 @@ def predeform(case: dict[str, Any], base_dir: str | Path = ".", source: str = "c
         grid=grid,
         x=x,
         constraint=constraint,
-        contact=contact,
+        on_body=contact,
         fabric=fabric,
         around=around,
         case=case,

@@ -55,7 +55,7 @@ def history_variables(history: History) -> dict[str, xr.Variable]:
 def relaxed_dataset(
     state: State,
     x: np.ndarray,
-    contact: np.ndarray,
+    on_body: np.ndarray,
     history: History,
     settings: Settings,
     converged: bool,
@@ -71,7 +71,7 @@ def relaxed_dataset(
     gauge = turning_gauge(state.grid, state.constraint)
     relaxed = state.with_positions(
         x,
-        contact=contact.astype(np.int8),
+        on_body=on_body.astype(np.int8),
         attrs={
             **{k: v for k, v in state.attrs.items() if not k.startswith("solver_")},
             "solver_method": settings.method,

@@ -24,9 +24,11 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from cloth.aggregate import LANDMARK_FIELDS, MMHG, Fields, Landmark
+from cloth.aggregate import Fields
 from cloth.io import atomic_output, global_attrs, to_attr
+from cloth.landmarks import LANDMARK_FIELDS, Landmark
 from cloth.materialfile import fabric_variables
+from cloth.pressure import MMHG
 from cloth.state import CONSTRAINT_MEANINGS, CONTACT_MEANINGS, State
 
 KIND = "result"
@@ -90,7 +92,7 @@ def result_dataset(
             grid,
         ),
         "contact": _node(
-            fields.contact,
+            fields.on_body,
             "1",
             "node on the body",
             grid,
@@ -180,7 +182,7 @@ def result_dataset(
 
 
 def summary_rows(ds: xr.Dataset, case_name: str) -> list[dict[str, object]]:
-    from cloth.aggregate import Landmark
+    from cloth.landmarks import Landmark
 
     rows = []
     for index, name in enumerate(ds["landmark"].values.tolist()):

@@ -40,7 +40,7 @@ from cloth.materials import Fabric
 
 KIND = "state"
 FORMAT_VERSION = 1
-FREE, SLIDING, FIXED = 0, 1, 2
+
 CONSTRAINT_MEANINGS = "free sliding fixed"
 CONTACT_MEANINGS = "off_body on_body"
 REQUIRED = (
@@ -60,8 +60,8 @@ class State:
         Node positions, N = n*m, node k = j*n + i.
     constraint : (N,) int8
         FREE, SLIDING or FIXED.
-    contact : (N,) int8
-        1 where the node is on the body surface.
+    on_body : (N,) int8
+        1 where the node is on the body surface (the file's ``contact`` flag).
     fabric : Fabric
         The fabric as ingested (weft and warp as in the lab table).
     around : {'weft', 'warp'}
@@ -77,7 +77,7 @@ class State:
     grid: Grid
     x: NDArray[np.float64]
     constraint: NDArray[np.int8]
-    contact: NDArray[np.int8]
+    on_body: NDArray[np.int8]
     fabric: Fabric
     around: str
     case: dict[str, Any]
@@ -133,7 +133,7 @@ def state_dataset(state: State, stage: str, previous: dict[str, Any] | None = No
             CONSTRAINT_MEANINGS,
         ),
         "contact": _flags(
-            state.contact.reshape(shape).astype(np.int8), "node on the body", CONTACT_MEANINGS
+            state.on_body.reshape(shape).astype(np.int8), "node on the body", CONTACT_MEANINGS
         ),
         "spring_node_a": _var("spring", grid.ends[:, 0].astype(np.int32), "1", "first node"),
         "spring_node_b": _var("spring", grid.ends[:, 1].astype(np.int32), "1", "second node"),
@@ -225,7 +225,7 @@ def state_from_dataset(ds: xr.Dataset, source: str = "state") -> State:
         grid=grid,
         x=x,
         constraint=ds["constraint"].values.ravel().astype(np.int8),
-        contact=ds["contact"].values.ravel().astype(np.int8),
+        on_body=ds["contact"].values.ravel().astype(np.int8),
         fabric=fabric,
         around=around,
         case=json.loads(ds.attrs.get("case", "{}")),

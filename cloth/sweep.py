@@ -18,9 +18,10 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from cloth.aggregate import LANDMARK_FIELDS, MMHG
 from cloth.errors import InputError
 from cloth.io import atomic_output, global_attrs, read_netcdf
+from cloth.landmarks import LANDMARK_FIELDS
+from cloth.pressure import MMHG
 
 FIELDS = {name: (units, long_name) for name, (_, units, long_name) in LANDMARK_FIELDS.items()}
 
@@ -196,8 +197,8 @@ def confirm(design_rows: list[dict[str, str]], root: str | Path = ".") -> list[d
 
 def plot_design(ds: xr.Dataset, targets: list[dict], path: str | Path) -> Path:
     """Landmark pressure against reduction per fabric and body, with the RAL class bands."""
-    from cloth.aggregate import RAL_CLASSES
     from cloth.plots import plt, save_figure
+    from cloth.pressure import RAL_CLASSES
 
     landmarks = ds["landmark"].values.tolist()
     fig, axes = plt.subplots(

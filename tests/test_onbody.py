@@ -7,7 +7,6 @@ import numpy as np
 import pytest
 from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
-from cloth.aggregate import MMHG
 from cloth.bodies.torso import chart_size, torso_mesh
 from cloth.onbody import (
     FIELDS,
@@ -20,6 +19,7 @@ from cloth.onbody import (
 )
 from cloth.plots import FIGURES
 from cloth.predeform import predeform
+from cloth.pressure import MMHG
 from cloth.stages import aggregate
 from tests.conftest import write_obj
 from tests.test_relax import solve

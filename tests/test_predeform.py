@@ -15,11 +15,11 @@ from scipy.spatial import ConvexHull
 from cloth.bodies import EllipticCylinder
 from cloth.bodies.torso import chart_size, torso_mesh
 from cloth.cli import main
-from cloth.grid import WARP, WEFT
+from cloth.grid import FIXED, FREE, SLIDING, WARP, WEFT
 from cloth.io import write_netcdf
 from cloth.mechanics import spring_state
 from cloth.predeform import predeform
-from cloth.state import FIXED, FREE, SLIDING, read_state, state_dataset
+from cloth.state import read_state, state_dataset
 from tests.conftest import write_obj
 
 OFFSET = 1e-4
@@ -50,7 +50,7 @@ def test_cylinder_wrap_is_exact():
     strain = spring_state(state.x, grid).strain
     np.testing.assert_allclose(strain[grid.family_slices[WEFT]], chord / rest - 1, rtol=1e-9)
     np.testing.assert_allclose(strain[grid.family_slices[WARP]], 0.0, atol=1e-12)
-    assert np.all(state.contact == 1)
+    assert np.all(state.on_body == 1)
     assert np.all(state.constraint.reshape(m, n)[[0, -1]] == SLIDING)
     assert np.all(state.constraint.reshape(m, n)[1:-1] == FREE)
 

@@ -9,13 +9,12 @@ import numpy as np
 import pytest
 
 from cloth.bodies import EllipticCylinder, body_from_config
-from cloth.grid import WEFT
+from cloth.grid import FIXED, WEFT
 from cloth.predeform import predeform
 from cloth.pressure import contact_reaction, node_area
 from cloth.solvers import Settings, relax
 from cloth.solvers.newton import _direction, stiffness_at
 from cloth.solvers.problem import Problem, turning_gauge
-from cloth.state import FIXED
 
 THICKNESS = 0.55e-3  # the example fabric's
 

@@ -6,11 +6,12 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from cloth.aggregate import MMHG, comfort_group, node_fields, ral_class
+from cloth.aggregate import node_fields
 from cloth.cli import main
 from cloth.grid import rectangle
 from cloth.io import write_netcdf
 from cloth.mechanics import spring_state
+from cloth.pressure import MMHG, comfort_group, ral_class
 from cloth.stages import aggregate
 from tests.test_relax import THICKNESS, solve, tube
 
@@ -201,8 +202,8 @@ def test_plotted_arrays_are_the_datasets(cylinder, tmp_path, monkeypatch):
 
 
 def test_landmarks_of_a_scan_come_from_the_girth_profile(tmp_path):
-    from cloth.aggregate import girth_extrema
     from cloth.bodies.torso import chart_size, torso_mesh
+    from cloth.landmarks import girth_extrema
     from cloth.predeform import predeform
     from tests.conftest import write_obj
 

@@ -9,15 +9,16 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from cloth.aggregate import landmarks, node_fields
+from cloth.aggregate import node_fields
 from cloth.bodies import body_from_config
 from cloth.bodies.torso import LANDMARKS, chart_size, torso_mesh
+from cloth.grid import FREE, SLIDING
+from cloth.landmarks import landmarks
 from cloth.predeform import predeform
 from cloth.solvers import Settings, relax
 from cloth.solvers.common import body_push, pushing
 from cloth.solvers.newton import entering
 from cloth.solvers.problem import Problem
-from cloth.state import FREE, SLIDING
 from tests.conftest import assert_quadratic_tail, capped_cylinder, write_obj
 from tests.test_relax import solve, tube
 

@@ -10,9 +10,9 @@ import pytest
 
 from cloth.bodies import MeshBody, body_from_config, polygon_perimeter
 from cloth.bodies.torso import LANDMARKS, SmoothTorso, chart_size, superellipse, torso_mesh
+from cloth.grid import FREE
 from cloth.predeform import predeform
 from cloth.solvers import Settings, relax
-from cloth.state import FREE
 
 RNG = np.random.default_rng(7)
 

@@ -124,8 +124,8 @@ def test_tiny_pipeline_end_to_end(tiny_run):
 def test_design_interpolates_and_explains_out_of_range():
     import xarray as xr
 
-    from cloth.aggregate import MMHG
     from cloth.errors import InputError
+    from cloth.pressure import MMHG
     from cloth.sweep import design
 
     reductions = np.array([0.1, 0.2, 0.3])

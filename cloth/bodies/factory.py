@@ -21,6 +21,7 @@ def body_from_config(block: dict, base_dir: str | Path = ".") -> tuple[Body, dic
     from cloth.bodies.torso import DEFAULT_CHART, SmoothTorso, chart_size, torso_mesh
     from cloth.config import resolve
     from cloth.io import sha256
+    from cloth.landmarks import TORSO_LANDMARKS
 
     ref: dict = {"block": block}
     if "mesh" in block:
@@ -53,7 +54,7 @@ def body_from_config(block: dict, base_dir: str | Path = ".") -> tuple[Body, dic
             vertices, faces = torso_mesh(chart, spec.get("around", 128), spec.get("rings", 120))
             body = MeshBody(vertices, faces, source=f"torso {spec['size']} ({chart_path})")
         ref.update(kind="torso", path=str(chart_path), sha256=sha256(chart_path))
-        ref["landmarks"] = {k: chart.height[k] for k in ("hip", "waist", "underbust", "bust")}
+        ref["landmarks"] = {k: chart.height[k] for k in TORSO_LANDMARKS}
     elif "cylinder" in block:
         body = Cylinder(**block["cylinder"])
         ref["kind"] = "cylinder"

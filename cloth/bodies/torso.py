@@ -48,6 +48,7 @@ from scipy.interpolate import CubicSpline, PchipInterpolator
 from cloth.bodies.base import SECTION_POINTS, AnalyticBody
 from cloth.bodies.implicit import ImplicitBody
 from cloth.errors import InputError
+from cloth.landmarks import TORSO_LANDMARKS
 
 log = logging.getLogger(__name__)
 
@@ -55,7 +56,7 @@ EXPONENT = 2.4
 #: Heights at which the section profiles are sampled for the splines (0.3 mm apart on 0.5 m).
 PROFILE_SAMPLES = 1601
 DEFAULT_CHART = Path(__file__).resolve().parents[2] / "data" / "bodies" / "size_chart.csv"
-LANDMARKS = ("hip", "waist", "underbust", "bust")
+LANDMARKS = TORSO_LANDMARKS
 GIRTH_KEYS = ("bust_cm", "underbust_cm", "waist_cm", "hip_cm")
 
 

@@ -35,9 +35,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from cloth.bodies import Body
-from cloth.grid import WEFT, Grid, build_grid
+from cloth.grid import FIXED, SLIDING, WEFT, Grid, build_grid
 from cloth.solvers.common import Diverged, Settings
-from cloth.state import FIXED, SLIDING, State, grid_fabric
+from cloth.state import State, grid_fabric
 
 log = logging.getLogger(__name__)
 
@@ -81,7 +81,7 @@ def coarse_state(state: State, around: int, rows: NDArray[np.intp]) -> State:
     constraint = np.repeat(state.constraint.reshape(grid.m, n)[rows, 0], around)
     x = interpolate(state.x, grid, coarse)
     contact = np.zeros(coarse.n_nodes, dtype=np.int8)
-    return replace(state, grid=coarse, x=x, constraint=constraint, contact=contact)
+    return replace(state, grid=coarse, x=x, constraint=constraint, on_body=contact)
 
 
 def interpolate(x: NDArray[np.float64], source: Grid, target: Grid) -> NDArray[np.float64]:

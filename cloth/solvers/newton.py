@@ -48,11 +48,11 @@ from numpy.typing import NDArray
 
 from cloth import contact
 from cloth.bodies import MeshBody
+from cloth.grid import FIXED, SLIDING
 from cloth.mechanics import stiffness
 from cloth.solvers.common import CONTACT_TOLERANCE
 from cloth.solvers.linear import INDEFINITE, solve
 from cloth.solvers.problem import Evaluation, Problem
-from cloth.state import FIXED, SLIDING
 
 #: ``k(project)``: the stiffness at one state, exact (False) or PSD-projected (True).
 Stiffness = Callable[[bool], sp.csr_matrix]

@@ -9,7 +9,7 @@ from numpy.typing import NDArray
 
 from cloth import contact
 from cloth.bodies import Body, MeshBody
-from cloth.grid import Grid
+from cloth.grid import FIXED, SLIDING, Grid
 from cloth.mechanics import SpringState, energy, spring_forces, spring_state
 from cloth.solvers.common import (
     CONTACT_TOLERANCE,
@@ -19,7 +19,7 @@ from cloth.solvers.common import (
     relative_residual,
     typical_force,
 )
-from cloth.state import FIXED, SLIDING, State
+from cloth.state import State
 
 #: Newton corrections along the horizontal normal that put a sliding edge node on the body.
 LEVEL_ITERATIONS = 3

@@ -81,7 +81,7 @@ def relax_state(
     except Diverged as exc:
         failed = output.with_name(output.stem + ".diverged.nc")
         write_netcdf(
-            relaxed_dataset(state, exc.x, state.contact, exc.history, settings, False,
+            relaxed_dataset(state, exc.x, state.on_body, exc.history, settings, False,
                             len(exc.history) - 1, settings.linear_solver, 0.0, previous,
                             stage="diverged"),
             failed,

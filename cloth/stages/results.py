@@ -10,15 +10,10 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from cloth.aggregate import (
-    girth_extrema,
-    lab_range_variables,
-    landmarks,
-    node_average,
-    node_fields,
-)
+from cloth.aggregate import lab_range_variables, node_average, node_fields
 from cloth.bodies import body_from_config
 from cloth.grid import WEFT
+from cloth.landmarks import girth_extrema, landmarks
 from cloth.mechanics import spring_state
 from cloth.resultfile import result_dataset, summary_rows
 from cloth.solvers.problem import Problem
