@@ -82,7 +82,7 @@ def test_force_runs_what_the_estimate_would_refuse(tmp_path, capsys, monkeypatch
     assert main([*args, "-o", str(tmp_path / "c.nc")]) == 0
     assert (tmp_path / "b.nc").is_file() and (tmp_path / "c.nc").is_file()
     monkeypatch.delenv("CLOTH_FORCE")
-    relax = ["relax", str(tmp_path / "b.nc"), "--base-dir", str(ROOT), "-o"]
+    relax = ["relax", str(tmp_path / "b.nc"), "-o"]
     assert main([*relax, str(tmp_path / "r.nc")]) == 2  # the relax stage checks its own need
     assert "in relax" in _one_line(capsys) and not (tmp_path / "r.nc").exists()
     assert main([*relax, str(tmp_path / "r.nc"), "--force"]) == 0

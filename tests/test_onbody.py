@@ -49,7 +49,7 @@ def result(request, tmp_path_factory):
     state = predeform(case, tmp)
     iterations = 8 if request.param == "mesh" else 60  # faceted: converged or not, it draws
     path = relaxed_file(tmp, state, solve(state, tolerance=1e-8, iterations=iterations))
-    return request.param, aggregate(path, tmp)[0]
+    return request.param, aggregate(path)[0]
 
 
 def _collections(ax, gid):
@@ -108,7 +108,7 @@ def test_a_sweeps_figures_share_one_colour_range(tmp_path):
     results = []
     for reduction in (0.1, 0.2):
         state = tube({"cylinder": {"radius": 0.1, "bottom": 0.0, "top": 0.5}}, reduction, 24, 4)
-        results.append(aggregate(relaxed_file(tmp_path, state, solve(state)), tmp_path)[0])
+        results.append(aggregate(relaxed_file(tmp_path, state, solve(state)))[0])
     low, high = results[0]["pressure_mmHg"], results[1]["pressure_mmHg"]
     assert float(high.median()) > 2 * float(low.median())  # Laplace: tighter presses harder
     forward, backward = shared_ranges(results), shared_ranges(results[::-1])

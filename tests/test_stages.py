@@ -40,7 +40,7 @@ def test_a_diverged_relaxation_keeps_its_last_state_and_exits_3(tmp_path, capsys
     monkeypatch.setattr(cloth.solvers, "relax", diverging)
     capsys.readouterr()
     out = tmp_path / "relaxed.nc"
-    code = main(["relax", str(tmp_path / "i.nc"), "--base-dir", str(ROOT), "-o", str(out)])
+    code = main(["relax", str(tmp_path / "i.nc"), "-o", str(out)])
     assert code == EXIT_DIVERGED == 3
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "diverged (energy grew)" in err[0] and "explicit+newton" in err[0]
@@ -59,3 +59,39 @@ def test_run_writes_every_stage_or_stops_where_asked(tmp_path):
     assert len(list((tmp_path / "all/figures").glob("*.png"))) >= 8
     assert main([*base, "-o", str(tmp_path / "part"), "--stop-after", "relax"]) == 0
     assert {p.name for p in (tmp_path / "part").iterdir()} == {"initial.nc", "relaxed.nc"}
+
+
+def test_later_stages_find_the_body_from_the_state_file_and_refuse_a_changed_one(
+    tmp_path, capsys, monkeypatch
+):
+    from cloth.bodies.torso import chart_size, torso_mesh
+    from tests.conftest import write_obj
+
+    (tmp_path / "case").mkdir()
+    write_obj(tmp_path / "case/scan.obj", *torso_mesh(chart_size("M"), 32, 30))
+    case = {
+        "material": "powernet",
+        "body": {"mesh": "scan.obj", "surface": "mesh"},  # relative to the case's folder
+        "garment": {"bottom": 0.95, "top": 1.1, "reduction": 0.15, "grid": [16, 4]},
+        "solver": {"max_iterations": 3},
+    }
+    (tmp_path / "case/case.yaml").write_text(yaml.safe_dump(case))
+    initial = tmp_path / "initial.nc"
+    args = ["--log-level", "WARNING"]
+    assert main([*args, "predeform", str(tmp_path / "case/case.yaml"), "--base-dir",
+                 str(ROOT), "-o", str(initial)]) == 2  # fmt: skip
+    assert "scan.obj" in capsys.readouterr().err  # not found beside the repository
+    assert main([*args, "predeform", str(tmp_path / "case/case.yaml"), "-o", str(initial)]) == 0
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    monkeypatch.chdir(elsewhere)  # no base directory: relax reads the body's record
+    assert main([*args, "relax", str(initial), "-o", str(tmp_path / "relaxed.nc")]) == 0
+    assert main([*args, "aggregate", str(tmp_path / "relaxed.nc"), "-o",
+                 str(tmp_path / "result.nc")]) == 0  # fmt: skip
+    with (tmp_path / "case/scan.obj").open("a") as handle:
+        handle.write("# edited\n")
+    capsys.readouterr()
+    assert main(["relax", str(initial), "-o", str(tmp_path / "again.nc")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "changed since predeform" in err[0] and "scan.obj" in err[0]
+    assert not (tmp_path / "again.nc").exists()

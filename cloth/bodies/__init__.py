@@ -17,7 +17,7 @@
 
 from cloth.bodies.analytic import Cone, Cylinder, EllipticCylinder
 from cloth.bodies.base import Body, hull_polygon, polygon_perimeter
-from cloth.bodies.factory import body_from_config
+from cloth.bodies.factory import body_from_config, body_from_record
 from cloth.bodies.mesh import MeshBody
 from cloth.bodies.sections import loop_around
 
@@ -28,6 +28,7 @@ __all__ = [
     "EllipticCylinder",
     "MeshBody",
     "body_from_config",
+    "body_from_record",
     "hull_polygon",
     "loop_around",
     "polygon_perimeter",

@@ -67,3 +67,32 @@ def body_from_config(block: dict, base_dir: str | Path = ".") -> tuple[Body, dic
     else:
         raise InputError("no body given; use one of mesh, torso, cylinder, elliptic_cylinder, cone")
     return body, ref
+
+
+def body_from_record(record: dict, source: str | Path = "state file") -> Body:
+    """The body of a state or result file's ``body`` record (`body_from_config`'s reference):
+    its block with every file taken from the record's resolved path, checked against its
+    sha256, and a mesh's smooth surface from the file the record names. A later stage needs no
+    base directory; a body file that has gone or changed since predeform is refused in one line
+    (from ``source``)."""
+    from cloth.io import sha256
+
+    block = dict(record["block"])
+    path = record.get("path")
+    if path is not None:
+        if not Path(path).is_file():
+            raise InputError(f"the body's file {path} is gone; restore it or rerun predeform",
+                             source, "body")  # fmt: skip
+        if record.get("sha256") and sha256(path) != record["sha256"]:
+            raise InputError(
+                f"the body's file {path} changed since predeform (its sha256 differs); rerun "
+                "predeform", source, "body",
+            )  # fmt: skip
+        if "mesh" in block:
+            block["mesh"] = path
+        elif "torso" in block:
+            block["torso"] = {**block["torso"], "chart": path}
+    surface = record.get("surface") or {}
+    if "mesh" in block and surface.get("file"):
+        block["surface_file"] = surface["file"]
+    return body_from_config(block)[0]

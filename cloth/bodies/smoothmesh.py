@@ -46,7 +46,7 @@ class SmoothMeshBody(ImplicitBody):
     def record(self) -> dict[str, float | str]:
         """What state and result files record of the surface (lengths in m)."""
         fit = self.fit
-        return {"kind": "smooth", "file": str(self._loaded[1]), **fit.record()}
+        return {"kind": "smooth", "file": str(Path(self._loaded[1]).resolve()), **fit.record()}
 
     @property
     def vertices(self) -> NDArray[np.float64]:

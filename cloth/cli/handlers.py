@@ -6,7 +6,6 @@ from __future__ import annotations
 import argparse
 import logging
 from collections.abc import Callable
-from pathlib import Path
 
 from cloth.errors import InputError
 
@@ -109,7 +108,7 @@ def _overrides(args: argparse.Namespace) -> dict:
 def _relax(args: argparse.Namespace) -> int:
     from cloth.stages.case import relax_file
 
-    relax_file(args.initial, args.output, _overrides(args), args.base_dir, args.force)
+    relax_file(args.initial, args.output, _overrides(args), args.force)
     return 0
 
 
@@ -124,7 +123,7 @@ def _run(args: argparse.Namespace) -> int:
 def _aggregate(args: argparse.Namespace) -> int:
     from cloth.stages import write_result
 
-    write_result(args.relaxed, args.output, args.summary, args.base_dir or Path("."))
+    write_result(args.relaxed, args.output, args.summary)
     return 0
 
 

@@ -193,9 +193,6 @@ def build_parser() -> argparse.ArgumentParser:
         command.add_argument(
             "--warm-start", type=int, help="explicit iterations before Newton (explicit+newton)"
         )
-        command.add_argument(
-            "--base-dir", type=Path, help="folder the case's relative paths are relative to"
-        )
         _force_option(command)
 
     rel = commands.add_parser(
@@ -218,6 +215,10 @@ def build_parser() -> argparse.ArgumentParser:
         "--stop-after", choices=("predeform", "relax", "aggregate"),
         help="stop after this stage (default: run them all)",
     )  # fmt: skip
+    run.add_argument(
+        "--base-dir", type=Path, help="folder relative paths in the case are relative to "
+        "(default: the case file's folder)",
+    )  # fmt: skip
     solver_options(run)
     run.set_defaults(handler=_run)
 
@@ -230,9 +231,6 @@ def build_parser() -> argparse.ArgumentParser:
     agg.add_argument("relaxed", type=Path, help="relaxed.nc from cloth relax")
     agg.add_argument("-o", "--output", type=Path, required=True, help="result.nc to write")
     agg.add_argument("--summary", type=Path, help="also write the landmark summary CSV")
-    agg.add_argument(
-        "--base-dir", type=Path, help="folder the case's relative paths are relative to"
-    )
     agg.set_defaults(handler=_aggregate)
 
     plot = commands.add_parser("plot", help="result.nc -> figures (PNG) in a folder")

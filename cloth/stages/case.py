@@ -28,6 +28,14 @@ def check_fits(stages: tuple[str, ...], case: dict, base_dir: Path, source, forc
     guard.check_fits(stages, *guard.case_counts(case, base_dir), source, force)
 
 
+def _check_record_fits(stage: str, case: dict, record: dict, source, force: bool) -> None:
+    from cloth import guard
+    from cloth.resources import grid_nodes
+
+    faces = guard.mesh_faces(record["path"]) if "mesh" in record.get("block", {}) else 0
+    guard.check_fits((stage,), grid_nodes(case), faces, source, force)
+
+
 def predeform_file(
     case_path: Path, output: Path, base_dir: Path | None = None, plot: Path | None = None,
     force: bool = False,
@@ -46,36 +54,35 @@ def predeform_file(
     write_netcdf(state_dataset(state, "initial"), output)
     log.info("wrote %s", output)
     if plot:
-        _plot_wrapped(state, base_dir, plot, case_path.stem)
+        _plot_wrapped(state, plot, case_path.stem)
     return state
 
 
-def _plot_wrapped(state, base_dir: Path, path: Path, name: str) -> None:
-    from cloth.bodies import body_from_config
+def _plot_wrapped(state, path: Path, name: str) -> None:
+    from cloth.bodies import body_from_record
     from cloth.mechanics import spring_state
     from cloth.plots import plot_garment_3d
 
     grid = state.grid
     strain = spring_state(state.x, grid).strain[grid.family_slices[0]]
-    body, _ = body_from_config(state.case["body"], base_dir)
+    body = body_from_record(state.body)
     plot_garment_3d(
         state.x, grid.n, grid.m, strain, "initial weft strain [1]", path, body,
         title=f"{name}: garment wrapped on the body (before relaxation)",
     )  # fmt: skip
 
 
-def relax_state(
-    state, base_dir: Path, overrides: dict, output: Path, previous: dict | None = None
-) -> None:
-    """Relax ``state`` (its case's solver block, ``overrides`` on top) and write relaxed.nc.
-    A divergence writes the last finite state to ``*.diverged.nc`` and raises `StageFailed`."""
-    from cloth.bodies import body_from_config
+def relax_state(state, overrides: dict, output: Path, previous: dict | None = None) -> None:
+    """Relax ``state`` (its case's solver block, ``overrides`` on top) on the body its record
+    names, and write relaxed.nc. A divergence writes the last finite state to
+    ``*.diverged.nc`` and raises `StageFailed`."""
+    from cloth.bodies import body_from_record
     from cloth.io import write_netcdf
     from cloth.relaxfile import relaxed_dataset
     from cloth.solvers import Diverged, Settings, relax
 
     settings = Settings(**{**state.case.get("solver", {}), **overrides})
-    body, _ = body_from_config(state.case["body"], base_dir)
+    body = body_from_record(state.body, output)
     try:
         result = relax(state, body, settings)
     except Diverged as exc:
@@ -102,26 +109,22 @@ def relax_state(
     log.info("wrote %s", output)
 
 
-def relax_file(
-    initial: Path, output: Path, overrides: dict, base_dir: Path | None = None,
-    force: bool = False,
-) -> None:  # fmt: skip
-    """initial.nc -> relaxed.nc; the memory check reads the case from the file's header
-    before its arrays."""
+def relax_file(initial: Path, output: Path, overrides: dict, force: bool = False) -> None:
+    """initial.nc -> relaxed.nc, on the body the file records (no base directory needed); the
+    memory check reads the case and body from the file's header before its arrays."""
     import xarray as xr
 
     from cloth.state import read_state
 
-    base_dir = Path(".") if base_dir is None else base_dir
     try:
         with xr.open_dataset(initial) as head:
-            case = json.loads(head.attrs["case"])
+            case, record = json.loads(head.attrs["case"]), json.loads(head.attrs["body"])
     except Exception:  # read_state reports an unreadable file in one line
-        case = None
+        case = record = None
     if case is not None:
-        check_fits(("relax",), case, base_dir, initial, force)
+        _check_record_fits("relax", case, record, initial, force)
     state, ds = read_state(initial)
-    relax_state(state, base_dir, overrides, output, dict(ds.attrs))
+    relax_state(state, overrides, output, dict(ds.attrs))
 
 
 def run_case(
@@ -145,11 +148,10 @@ def run_case(
     write_netcdf(initial, folder / "initial.nc")
     if stop_after == "predeform":
         return
-    relax_state(state, base_dir, overrides, folder / "relaxed.nc", dict(initial.attrs))
+    relax_state(state, overrides, folder / "relaxed.nc", dict(initial.attrs))
     if stop_after == "relax":
         return
-    result = write_result(folder / "relaxed.nc", folder / "result.nc", folder / "summary.csv",
-                          base_dir)  # fmt: skip
+    result = write_result(folder / "relaxed.nc", folder / "result.nc", folder / "summary.csv")
     if stop_after == "aggregate":
         return
     figures(folder / "result.nc", folder / "figures")

@@ -11,7 +11,7 @@ import numpy as np
 import xarray as xr
 
 from cloth.aggregate import lab_range_variables, node_average, node_fields
-from cloth.bodies import body_from_config
+from cloth.bodies import body_from_record
 from cloth.grid import WEFT
 from cloth.landmarks import girth_extrema, landmarks
 from cloth.mechanics import spring_state
@@ -20,14 +20,14 @@ from cloth.solvers.problem import Problem
 from cloth.state import read_state
 
 
-def aggregate(relaxed_path: str | Path, base_dir: str | Path = ".") -> tuple[xr.Dataset, list]:
+def aggregate(relaxed_path: str | Path) -> tuple[xr.Dataset, list]:
     """relaxed.nc -> (result dataset, summary rows): the stage's function.
 
     Rebuilds the model and body from the state file, evaluates the final positions (forces,
     contact, normals) and computes every field, landmark and total.
     """
     state, ds = read_state(relaxed_path, "relaxed")
-    body, ref = body_from_config(state.case["body"], base_dir)
+    body, ref = body_from_record(state.body, relaxed_path), state.body
     ev = Problem.of(state, body).evaluate(state.x)
     fields = node_fields(
         state.grid, state.x, ev.springs, state.fabric.thickness, ev.forces, ev.unbalanced,
@@ -90,10 +90,7 @@ def figures(
 
 
 def write_result(
-    relaxed_path: str | Path,
-    output: str | Path,
-    summary: str | Path | None = None,
-    base_dir: str | Path = ".",
+    relaxed_path: str | Path, output: str | Path, summary: str | Path | None = None
 ) -> xr.Dataset:
     """relaxed.nc -> result.nc (and the landmark summary CSV): the aggregate stage's files;
     logs each girth line's pressure, and warns if the relaxation did not converge."""
@@ -103,7 +100,7 @@ def write_result(
     from cloth.resultfile import write_summary
 
     log = logging.getLogger("cloth")
-    ds, rows = aggregate(relaxed_path, base_dir)
+    ds, rows = aggregate(relaxed_path)
     write_netcdf(ds, output)
     if summary:
         write_summary(rows, summary)

@@ -22,5 +22,5 @@ rule aggregate:
     params:
         cloth_version=CLOTH_VERSION,
     shell:
-        "cloth aggregate {input:q} -o {output.nc:q} --summary {output.csv:q} --base-dir . "
+        "cloth aggregate {input:q} -o {output.nc:q} --summary {output.csv:q} "
         "> {log:q} 2>&1"

@@ -19,4 +19,4 @@ rule relax:
     params:
         cloth_version=CLOTH_VERSION,
     shell:
-        "cloth relax {input:q} -o {output:q} --base-dir . > {log:q} 2>&1"
+        "cloth relax {input:q} -o {output:q} > {log:q} 2>&1"
