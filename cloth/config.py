@@ -43,11 +43,20 @@ def _fill_defaults(schema: dict[str, Any], data: Any) -> None:
             _fill_defaults(sub, data[key])
 
 
-def validate_case(case: dict[str, Any], source: str | Path = "case") -> dict[str, Any]:
-    """Validate a case mapping; return a copy with defaults filled.
+class ValidCase(dict):
+    """A case that `validate_case` checked and filled with defaults: validated once, where it
+    enters a process (the plan, a case file, a command's JSON); functions handed one do not
+    validate it again."""
+
+
+def validate_case(case: dict[str, Any], source: str | Path = "case") -> ValidCase:
+    """Validate a case mapping; return a copy with defaults filled (a `ValidCase`, returned as
+    it is when given one).
 
     Raises `InputError` naming ``source`` and the key path of the first problem.
     """
+    if isinstance(case, ValidCase):
+        return case
     if not isinstance(case, dict):
         raise InputError("a case must be a mapping of keys to values", source)
     validator = jsonschema.Draft202012Validator(case_schema())
@@ -101,10 +110,10 @@ def validate_case(case: dict[str, Any], source: str | Path = "case") -> dict[str
     else:
         for key in MESH_ONLY:
             body.pop(key, None)
-    return case
+    return ValidCase(case)
 
 
-def load_case(path: str | Path) -> dict[str, Any]:
+def load_case(path: str | Path) -> ValidCase:
     """Read and validate a YAML case file."""
     path = Path(path)
     if not path.is_file():

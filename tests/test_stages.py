@@ -95,3 +95,26 @@ def test_later_stages_find_the_body_from_the_state_file_and_refuse_a_changed_one
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "changed since predeform" in err[0] and "scan.obj" in err[0]
     assert not (tmp_path / "again.nc").exists()
+
+
+def test_a_case_is_validated_once_where_it_enters(tmp_path, monkeypatch):
+    import cloth.config
+
+    calls = []
+    real = cloth.config.jsonschema.Draft202012Validator
+
+    def counting(*args, **kwargs):
+        calls.append(1)
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(cloth.config.jsonschema, "Draft202012Validator", counting)
+    case = _case(tmp_path)
+    base = ["--log-level", "WARNING"]
+    assert main([*base, "predeform", str(case), "--base-dir", str(ROOT), "-o",
+                 str(tmp_path / "i.nc")]) == 0  # fmt: skip
+    assert len(calls) == 1  # read from its file; predeform trusts the ValidCase
+    assert main([*base, "run", str(case), "--base-dir", str(ROOT), "-o", str(tmp_path / "r"),
+                 "--stop-after", "aggregate"]) == 0  # fmt: skip
+    assert len(calls) == 2
+    valid = cloth.config.load_case(case)
+    assert cloth.config.validate_case(valid) is valid and len(calls) == 3

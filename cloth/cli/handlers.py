@@ -84,7 +84,7 @@ def _case_write(args: argparse.Namespace) -> int:
         raise InputError(f"not valid JSON ({exc.msg})", field="--json") from None
     case = validate_case(case, args.output)
     with atomic_output(args.output) as tmp:
-        tmp.write_text(yaml.safe_dump(case, sort_keys=False))
+        tmp.write_text(yaml.safe_dump(dict(case), sort_keys=False))
     log.info("wrote %s", args.output)
     return 0
 
@@ -94,7 +94,7 @@ def _case_check(args: argparse.Namespace) -> int:
 
     from cloth.config import load_case
 
-    print(yaml.safe_dump(load_case(args.case), sort_keys=False), end="")
+    print(yaml.safe_dump(dict(load_case(args.case)), sort_keys=False), end="")
     return 0
 
 
