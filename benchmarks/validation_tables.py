@@ -97,7 +97,7 @@ def cone_table() -> str:
     import tempfile
 
     from cloth.io import write_netcdf
-    from cloth.relaxfile import relaxed_dataset
+    from cloth.relaxfile import Relaxation, relaxed_dataset
     from cloth.stages import aggregate
 
     rows = []
@@ -117,10 +117,7 @@ def cone_table() -> str:
             solid, _ = body_from_config(state.case["body"])
             settings = Settings(tolerance=1e-10, max_iterations=60, progress=False)
             result = relax(state, solid, settings)
-            ds = relaxed_dataset(
-                state, result.final.x, result.final.on_body, result.history, settings,
-                result.converged, result.iterations, "superlu", 0.0,
-            )  # fmt: skip
+            ds = relaxed_dataset(state, Relaxation.of(result, settings))
             out, _ = aggregate(write_netcdf(ds, folder / f"{name}{lengthwise}.nc"))
             p = out["pressure"].values
             inner = out["contact"].values[1:-1].astype(bool)

@@ -16,8 +16,11 @@ memory at its end, MiB). ``solver_iterations`` and the history are the requested
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 import xarray as xr
+from numpy.typing import NDArray
 
 from cloth.solvers.common import History, Settings
 from cloth.solvers.problem import turning_gauge
@@ -52,22 +55,48 @@ def history_variables(history: History) -> dict[str, xr.Variable]:
     }
 
 
+@dataclass(frozen=True)
+class Relaxation:
+    """What a relaxation produced, as the relaxed file records it: final positions ``x``
+    ((N, 3), m), the on-body flag ((N,)), the history, the settings, and the solver's facts
+    (``seconds``, s; ``peak_memory``, bytes)."""
+
+    x: NDArray[np.float64]
+    on_body: NDArray
+    history: History
+    settings: Settings
+    converged: bool
+    iterations: int
+    linear_solver: str
+    seconds: float = 0.0
+    factorisations: int = 0
+    peak_memory: float = 0.0
+
+    @classmethod
+    def of(cls, result, settings: Settings) -> Relaxation:
+        """From `cloth.solvers.relax`'s result."""
+        final = result.final
+        return cls(final.x, final.on_body, result.history, settings, result.converged,
+                   result.iterations, result.linear_solver, result.seconds,
+                   result.factorisations, result.peak_memory)  # fmt: skip
+
+    @classmethod
+    def diverged(cls, error, state: State, settings: Settings) -> Relaxation:
+        """From a `cloth.solvers.Diverged`: its last finite positions, not converged."""
+        return cls(error.x, state.on_body, error.history, settings, False,
+                   len(error.history) - 1, settings.linear_solver)  # fmt: skip
+
+
 def relaxed_dataset(
-    state: State,
-    x: np.ndarray,
-    on_body: np.ndarray,
-    history: History,
-    settings: Settings,
-    converged: bool,
-    iterations: int,
-    linear_solver: str,
-    seconds: float,
-    previous: dict | None = None,
-    stage: str = "relaxed",
-    factorisations: int = 0,
-    peak_memory: float = 0.0,
+    state: State, run: Relaxation, previous: dict | None = None, stage: str = "relaxed"
 ) -> xr.Dataset:
-    """The ``relaxed.nc`` dataset (``stage="diverged"`` for the last finite state of a failure)."""
+    """The ``relaxed.nc`` dataset of ``state`` relaxed by ``run`` (``stage="diverged"`` for
+    the last finite state of a failure); ``previous``: the initial file's attributes."""
+    x, on_body, history, settings = run.x, run.on_body, run.history, run.settings
+    converged, iterations, linear_solver, seconds = (
+        run.converged, run.iterations, run.linear_solver, run.seconds
+    )  # fmt: skip
+    factorisations, peak_memory = run.factorisations, run.peak_memory
     gauge = turning_gauge(state.grid, state.constraint)
     relaxed = state.with_positions(
         x,

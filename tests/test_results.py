@@ -17,13 +17,10 @@ from tests.test_relax import THICKNESS, solve, tube
 
 
 def relaxed_file(tmp_path, state, result, settings_tol=1e-10):
-    from cloth.relaxfile import relaxed_dataset
+    from cloth.relaxfile import Relaxation, relaxed_dataset
     from cloth.solvers import Settings
 
-    ds = relaxed_dataset(
-        state, result.final.x, result.final.on_body, result.history,
-        Settings(tolerance=settings_tol), result.converged, result.iterations, "superlu", 0.0,
-    )  # fmt: skip
+    ds = relaxed_dataset(state, Relaxation.of(result, Settings(tolerance=settings_tol)))
     return write_netcdf(ds, tmp_path / "relaxed.nc")
 
 

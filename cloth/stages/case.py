@@ -78,7 +78,7 @@ def relax_state(state, overrides: dict, output: Path, previous: dict | None = No
     ``*.diverged.nc`` and raises `StageFailed`."""
     from cloth.bodies import body_from_record
     from cloth.io import write_netcdf
-    from cloth.relaxfile import relaxed_dataset
+    from cloth.relaxfile import Relaxation, relaxed_dataset
     from cloth.solvers import Diverged, Settings, relax
 
     settings = Settings(**{**state.case.get("solver", {}), **overrides})
@@ -87,25 +87,14 @@ def relax_state(state, overrides: dict, output: Path, previous: dict | None = No
         result = relax(state, body, settings)
     except Diverged as exc:
         failed = output.with_name(output.stem + ".diverged.nc")
-        write_netcdf(
-            relaxed_dataset(state, exc.x, state.on_body, exc.history, settings, False,
-                            len(exc.history) - 1, settings.linear_solver, 0.0, previous,
-                            stage="diverged"),
-            failed,
-        )  # fmt: skip
+        run = Relaxation.diverged(exc, state, settings)
+        write_netcdf(relaxed_dataset(state, run, previous, stage="diverged"), failed)
         raise StageFailed(
             f"relaxation diverged ({exc}); the last finite state is in {failed}; try method "
             "explicit+newton or a smaller reduction",
             EXIT_DIVERGED,
         ) from None
-    final = result.final
-    write_netcdf(
-        relaxed_dataset(state, final.x, final.on_body, result.history, settings,
-                        result.converged, result.iterations, result.linear_solver,
-                        result.seconds, previous, factorisations=result.factorisations,
-                        peak_memory=result.peak_memory),
-        output,
-    )  # fmt: skip
+    write_netcdf(relaxed_dataset(state, Relaxation.of(result, settings), previous), output)
     log.info("wrote %s", output)
 
 
