@@ -34,7 +34,7 @@ from cloth.config import validate_case
 from cloth.errors import InputError
 from cloth.grid import FIXED, FREE, SLIDING, build_grid
 from cloth.materialfile import load_fabric
-from cloth.state import State, grid_fabric
+from cloth.statefile import State, grid_fabric
 
 log = logging.getLogger(__name__)
 

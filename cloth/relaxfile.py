@@ -1,6 +1,6 @@
 """Write a relaxation's outcome: the relaxed state plus history and solver attributes.
 
-``relaxed.nc`` is a state file (see `cloth.state`) with stage ``relaxed`` and, along the
+``relaxed.nc`` is a state file (see `cloth.statefile`) with stage ``relaxed`` and, along the
 ``iteration`` dimension (the initial state first), and the positions before relaxation
 ``x_initial``, ``y_initial``, ``z_initial`` (m, dims row, col): ``residual`` (1), ``energy`` (J),
 ``penetration`` (m), ``contacts`` (count), ``step`` (m), ``iteration_method`` (0 explicit,
@@ -24,7 +24,7 @@ from numpy.typing import NDArray
 
 from cloth.solvers.common import History, Settings
 from cloth.solvers.problem import turning_gauge
-from cloth.state import State, state_dataset
+from cloth.statefile import State, state_dataset
 
 
 def history_variables(history: History) -> dict[str, xr.Variable]:

@@ -29,7 +29,7 @@ from cloth.io import atomic_output, global_attrs, to_attr
 from cloth.landmarks import LANDMARK_FIELDS, Landmark
 from cloth.materialfile import fabric_variables
 from cloth.pressure import MMHG
-from cloth.state import CONSTRAINT_MEANINGS, CONTACT_MEANINGS, State
+from cloth.statefile import CONSTRAINT_MEANINGS, CONTACT_MEANINGS, State
 
 KIND = "result"
 #: The solver history copied from relaxed.nc, per iteration.

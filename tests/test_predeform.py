@@ -19,7 +19,7 @@ from cloth.grid import FIXED, FREE, SLIDING, WARP, WEFT
 from cloth.io import write_netcdf
 from cloth.mechanics import spring_state
 from cloth.predeform import predeform
-from cloth.state import read_state, state_dataset
+from cloth.statefile import read_state, state_dataset
 from tests.conftest import write_obj
 
 OFFSET = 1e-4

@@ -178,7 +178,7 @@ def test_relax_cli_and_bad_input(tmp_path, capsys):
 
     from cloth.cli import main
     from cloth.io import write_netcdf
-    from cloth.state import state_dataset
+    from cloth.statefile import state_dataset
 
     state = tube({"cylinder": {"radius": 0.1, "bottom": 0.0, "top": 0.5}}, 0.2, n=24, m=3)
     initial = write_netcdf(state_dataset(state, "initial"), tmp_path / "initial.nc")

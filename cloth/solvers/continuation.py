@@ -37,7 +37,7 @@ from numpy.typing import NDArray
 from cloth.bodies import Body
 from cloth.grid import FIXED, SLIDING, WEFT, Grid, build_grid
 from cloth.solvers.common import Diverged, Settings
-from cloth.state import State, grid_fabric
+from cloth.statefile import State, grid_fabric
 
 log = logging.getLogger(__name__)
 

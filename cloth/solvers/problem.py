@@ -19,7 +19,7 @@ from cloth.solvers.common import (
     relative_residual,
     typical_force,
 )
-from cloth.state import State
+from cloth.statefile import State
 
 #: Newton corrections along the horizontal normal that put a sliding edge node on the body.
 LEVEL_ITERATIONS = 3
@@ -72,7 +72,7 @@ def turning_gauge(grid: Grid, constraint: NDArray[np.int8]) -> int | None:
 
 @dataclass(frozen=True, eq=False)
 class Problem:
-    """The grid, the body, the nodes' constraints (`cloth.state`: free, sliding, fixed) and the
+    """The grid, the body, the nodes' constraints (`cloth.statefile`: free, sliding, fixed) and the
     node held against turning (`turning_gauge`; None: none)."""
 
     grid: Grid

@@ -18,7 +18,7 @@ from cloth.solvers.explicit import MAX_STEP, explicit_step, shortest_rest
 from cloth.solvers.linear import choose, factorisations
 from cloth.solvers.newton import newton_step
 from cloth.solvers.problem import Evaluation, Problem
-from cloth.state import State
+from cloth.statefile import State
 
 log = logging.getLogger(__name__)
 

@@ -45,7 +45,7 @@ def predeform_file(
     from cloth.config import load_case
     from cloth.io import write_netcdf
     from cloth.predeform import predeform
-    from cloth.state import state_dataset
+    from cloth.statefile import state_dataset
 
     case = load_case(case_path)
     base_dir = case_path.parent if base_dir is None else base_dir
@@ -103,7 +103,7 @@ def relax_file(initial: Path, output: Path, overrides: dict, force: bool = False
     memory check reads the case and body from the file's header before its arrays."""
     import xarray as xr
 
-    from cloth.state import read_state
+    from cloth.statefile import read_state
 
     try:
         with xr.open_dataset(initial) as head:
@@ -127,7 +127,7 @@ def run_case(
     from cloth.io import write_netcdf
     from cloth.predeform import predeform
     from cloth.stages.results import figures, view, write_result
-    from cloth.state import state_dataset
+    from cloth.statefile import state_dataset
 
     case = load_case(case_path)
     base_dir = case_path.parent if base_dir is None else base_dir

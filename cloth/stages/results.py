@@ -17,7 +17,7 @@ from cloth.landmarks import girth_extrema, landmarks
 from cloth.mechanics import spring_state
 from cloth.resultfile import result_dataset, summary_rows
 from cloth.solvers.problem import Problem
-from cloth.state import read_state
+from cloth.statefile import read_state
 
 
 def aggregate(relaxed_path: str | Path) -> tuple[xr.Dataset, list]:
