@@ -326,3 +326,21 @@ def test_factorisations_and_peak_memory_are_recorded(monkeypatch):
     ds = relaxed_dataset(state, Relaxation.of(result, Settings()))
     assert ds.attrs["solver_factorisations"] == len(calls)
     assert ds.attrs["solver_peak_memory_mib"] == pytest.approx(result.peak_memory / 2**20)
+
+
+def test_relax_hands_every_step_to_its_callbacks_in_phases():
+    from cloth.solvers.stepper import Step
+
+    state = tube({"cylinder": {"radius": 0.1, "bottom": 0.0, "top": 0.5}}, 0.2, n=24, m=3)
+    body, _ = body_from_config(state.case["body"])
+    seen = []
+
+    def record(iteration, stepper, step, history):
+        assert isinstance(step, Step) and history.residual[-1] == step.evaluation.residual
+        seen.append((iteration, stepper.name, stepper.code, history.method[-1]))
+
+    settings = Settings(method="explicit+newton", warm_start=4, tolerance=1e-10, progress=False)
+    result = relax(state, body, settings, callbacks=[record])
+    assert result.converged and [s[0] for s in seen] == list(range(1, result.iterations + 1))
+    assert [s[1] for s in seen[:4]] == ["explicit"] * 4 and seen[4][1] == "newton"
+    assert all(code == method for _, _, code, method in seen)

@@ -21,6 +21,7 @@ from numpy.typing import NDArray
 
 from cloth.mechanics import stiffness
 from cloth.solvers.problem import Evaluation, Problem
+from cloth.solvers.stepper import Step
 
 OMEGA = 0.8
 MAX_STEP = 0.25
@@ -58,3 +59,18 @@ def explicit_step(
     p = np.minimum(OMEGA * magnitude / node_stiffness(problem, ev, direction), cap)
     x = problem.project_out(ev.x + p[:, None] * direction, hold=ev.on_body)
     return x, float(p.max()) if len(p) else 0.0
+
+
+class Explicit:
+    """The paper's explicit iteration as a `cloth.solvers.stepper.Stepper`; moves are capped at
+    ``cap`` ((N,), m: `MAX_STEP` x each node's shortest rest spring)."""
+
+    name = "explicit"
+    code = 0
+
+    def __init__(self, cap: NDArray[np.float64]) -> None:
+        self.cap = cap
+
+    def step(self, problem: Problem, ev: Evaluation) -> Step:
+        x, move = explicit_step(problem, ev, self.cap)
+        return Step(problem.evaluate(x), move)

@@ -53,6 +53,7 @@ from cloth.mechanics import stiffness
 from cloth.solvers.common import CONTACT_TOLERANCE
 from cloth.solvers.linear import INDEFINITE, solve
 from cloth.solvers.problem import Evaluation, Problem
+from cloth.solvers.stepper import Step
 
 #: ``k(project)``: the stiffness at one state, exact (False) or PSD-projected (True).
 Stiffness = Callable[[bool], sp.csr_matrix]
@@ -142,6 +143,21 @@ def newton_matrix(
     identity = sp.identity(k.shape[0], format="csr")
     mu = REGULARISATION * float(np.abs(k.diagonal()).max() or 1.0)
     return (projector @ k @ projector + (identity - projector) + mu * identity).tocsr()
+
+
+class Newton:
+    """Sparse Newton with contact and line search as a `cloth.solvers.stepper.Stepper`, on
+    the linear ``solver`` (`cloth.solvers.linear.choose`)."""
+
+    name = "newton"
+    code = 1
+
+    def __init__(self, solver: str) -> None:
+        self.solver = solver
+
+    def step(self, problem: Problem, ev: Evaluation) -> Step:
+        new, move, ok = newton_step(problem, ev, self.solver)
+        return Step(new, move, ok)
 
 
 def newton_step(problem: Problem, ev: Evaluation, solver: str) -> tuple[Evaluation, float, bool]:

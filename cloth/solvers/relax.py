@@ -5,19 +5,20 @@ from __future__ import annotations
 import logging
 import sys
 import time
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
-from tqdm import tqdm
 
 from cloth.bodies import Body
 from cloth.solvers.common import Diverged, History, Settings
 from cloth.solvers.continuation import start_from_coarse
-from cloth.solvers.explicit import MAX_STEP, explicit_step, shortest_rest
+from cloth.solvers.explicit import MAX_STEP, Explicit, shortest_rest
 from cloth.solvers.linear import choose, factorisations
-from cloth.solvers.newton import newton_step
+from cloth.solvers.newton import Newton
 from cloth.solvers.problem import Evaluation, Problem
+from cloth.solvers.stepper import Callback, LogLine, ProgressBar, Stepper
 from cloth.statefile import State
 
 log = logging.getLogger(__name__)
@@ -60,8 +61,23 @@ def _check(ev: Evaluation, last_good: NDArray, history: History, peak: float) ->
         )
 
 
-def relax(state: State, body: Body, settings: Settings) -> Result:
-    """Relax ``state`` on ``body`` to equilibrium (or the iteration limit).
+def _phases(problem: Problem, settings: Settings, solver: str) -> list[tuple[Stepper, int]]:
+    """The steppers of ``settings.method`` and the iterations each may take."""
+    phases: list[tuple[Stepper, int]] = []
+    if settings.method in ("explicit", "explicit+newton"):
+        count = settings.max_iterations if settings.method == "explicit" else settings.warm_start
+        phases.append((Explicit(MAX_STEP * shortest_rest(problem)), count))
+    if settings.method in ("newton", "explicit+newton"):
+        phases.append((Newton(solver), settings.max_iterations))
+    return phases
+
+
+def relax(
+    state: State, body: Body, settings: Settings, callbacks: Sequence[Callback] = ()
+) -> Result:
+    """Relax ``state`` on ``body`` to equilibrium (or the iteration limit): the settings'
+    steppers in phases (explicit, Newton, or explicit then Newton), each step recorded in the
+    history and handed to the progress bar, the log line and ``callbacks``.
 
     Raises `Diverged` (with the last finite positions and the history) on NaN or energy growth.
     """
@@ -75,48 +91,27 @@ def relax(state: State, body: Body, settings: Settings) -> Result:
     ev = problem.evaluate(problem.project_out(state.x))
     _record(history, problem, ev, 0.0, 0)
     peak = max(ev.energy, 1e-300)
-    phases: list[tuple[str, int]] = []
-    if settings.method in ("explicit", "explicit+newton"):
-        count = settings.max_iterations if settings.method == "explicit" else settings.warm_start
-        phases.append(("explicit", count))
-    if settings.method in ("newton", "explicit+newton"):
-        phases.append(("newton", settings.max_iterations))
-    cap = MAX_STEP * shortest_rest(problem)
-    total = sum(count for _, count in phases)
+    phases = _phases(problem, settings, solver)
     iterations = 0
-    with tqdm(
-        total=total, disable=settings.progress is False if settings.progress is not None else None,
-        desc="relax", unit="it", miniters=1, leave=False,
-    ) as bar:  # fmt: skip
-        for phase, count in phases:
+    with ProgressBar(sum(count for _, count in phases), settings) as bar:
+        listeners = [bar, LogLine(settings.log_every), *callbacks]
+        for stepper, count in phases:
             for _ in range(count):
                 if ev.residual <= settings.tolerance:
                     break
-                if phase == "explicit":
-                    x, move = explicit_step(problem, ev, cap)
-                    new = problem.evaluate(x)
-                    ok = True
-                else:
-                    new, move, ok = newton_step(problem, ev, solver)
-                _check(new, ev.x, history, peak)
-                peak = max(peak, new.energy)
-                ev = new
+                step = stepper.step(problem, ev)
+                _check(step.evaluation, ev.x, history, peak)
+                ev = step.evaluation
+                peak = max(peak, ev.energy)
                 iterations += 1
-                _record(history, problem, ev, move, 0 if phase == "explicit" else 1)
-                bar.update(1)
-                bar.set_postfix(residual=f"{ev.residual:.2e}", refresh=False)
-                if settings.log_every and iterations % settings.log_every == 0:
-                    log.info(
-                        "%s iteration %d: residual %.3e, energy %.9g J, %d nodes on the body, "
-                        "penetration %.2e m",
-                        phase, iterations, ev.residual, ev.energy, history.contacts[-1],
-                        ev.penetration,
-                    )  # fmt: skip
-                if not ok:
+                _record(history, problem, ev, step.move, stepper.code)
+                for listener in listeners:
+                    listener(iterations, stepper, step, history)
+                if not step.ok:
                     log.warning(
-                        "newton: the line search found no decrease at residual %.3e; stopping",
-                        ev.residual,
-                    )
+                        "%s: the line search found no decrease at residual %.3e; stopping",
+                        stepper.name, ev.residual,
+                    )  # fmt: skip
                     break
     converged = ev.residual <= settings.tolerance
     seconds = time.perf_counter() - start
