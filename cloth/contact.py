@@ -67,7 +67,7 @@ def locate(
     body: MeshBody, points: NDArray[np.float64]
 ) -> tuple[NDArray[np.int64], NDArray[np.float64], NDArray[np.int8]]:
     """Closest face ((P,) int), closest point ((P, 3), m) and its feature code ((P,))."""
-    topo = body._topology()
+    topo = body.topology()
     _, face, closest = topo["tree"].squared_distance(body.vertices, body.faces, points)
     face = np.asarray(face, dtype=np.int64).reshape(-1)
     closest = np.asarray(closest, dtype=np.float64).reshape(-1, 3)
@@ -133,7 +133,7 @@ def _active(
     """Per point, the faces of its normal cone with a positive multiplier ((P, 3), -1 unused)
     and those multipliers ((P, 3), N), largest first; the cone of the ``flat`` rows is taken
     in the horizontal plane."""
-    topo = body._topology()
+    topo = body.topology()
     normal = topo["face_normal"]
     count = len(force)
     faces = np.full((count, MAX_ACTIVE), -1, dtype=np.int64)
@@ -178,7 +178,7 @@ def remainder(
     force[flat, 2] = 0.0
     face, _, code = locate(body, points)
     faces, lams = _active(body, face, code, force, flat)
-    normal = body._topology()["face_normal"]
+    normal = body.topology()["face_normal"]
     gens = _level(np.where(faces[..., None] >= 0, normal[faces], 0.0), flat)
     return force + np.einsum("pk,pkd->pd", lams, gens)
 
@@ -203,7 +203,7 @@ def frames(
     face, _, code = locate(body, points)
     faces, _ = _active(body, face, code, f, flat)
     used = faces >= 0
-    normals = np.where(used[..., None], body._topology()["face_normal"][faces], 0.0)
+    normals = np.where(used[..., None], body.topology()["face_normal"][faces], 0.0)
     corner = body.vertices[body.faces[np.maximum(faces, 0), 0]]
     offsets = np.where(used, np.einsum("pad,pad->pa", normals, points[:, None, :] - corner), 0.0)
     return normals, offsets, faces

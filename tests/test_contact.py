@@ -77,7 +77,7 @@ def test_remainder_on_the_torso_matches_nnls_at_every_feature():
     force = rng.normal(size=(60, 3))
     got = contact.remainder(body, points, force)
     face, _, code = contact.locate(body, points)
-    topo = body._topology()
+    topo = body.topology()
     for i in range(60):
         if code[i] == contact.FACE:
             ring = [face[i]]

@@ -234,8 +234,9 @@ class MeshBody:
             return distance, closest, normal
         return self._query(p)  # type: ignore[operator]
 
-    def _topology(self) -> dict:
-        """Cached face normals, edge-to-faces and vertex-to-faces maps, and an AABB tree."""
+    def topology(self) -> dict:
+        """Cached face normals, edge-to-faces and vertex-to-faces maps, and an AABB tree (what
+        faceted contact, `cloth.contact`, reads of the mesh)."""
         if self._topo is None:
             import igl
 
