@@ -1,15 +1,18 @@
-"""Coarse-to-fine continuation against plain Newton, side by side (docs/performance.md).
+"""Fewer factorisations: coarse-to-fine continuation and factor reuse against plain Newton, side
+by side (docs/performance.md).
 
 Torso M (the smooth parametric torso), power net, 15 % reduction, 0.80-1.25 m, sliding edges,
 Newton to relative residual ``--tolerance`` (1e-8) with the linear solver ``--solver`` (auto:
-the fastest installed), plain and with continuation (coarsest level at most ``--coarsest``
-nodes). Wall time (median of ``--repeat`` runs, alternating the two), Newton iterations on
-the fine grid, the run's factorisations (all levels), and the largest position difference
-between the two equilibria. Writes the table into docs/performance.md (section
-``continuation``) unless ``--no-write``. Run:
+the fastest installed), for each of ``--variants``: plain, reuse (SuperLU's factor kept, GMRES
+on the next systems), continuation (coarsest level at most ``--coarsest`` nodes), and both.
+Wall time (median of ``--repeat`` runs, alternating the variants), Newton iterations on the
+fine grid, the run's factorisations (all levels), and the largest position difference from
+plain Newton's equilibrium. Writes the table into docs/performance.md (section ``--section``,
+default ``continuation``) unless ``--no-write``. Run:
 
     .venv/bin/python benchmarks/bench_continuation.py [--grids 192x96 384x192 448x224]
-        [--coarsest 5000] [--solver auto] [--repeat 1] [--tolerance 1e-8] [--no-write]
+        [--variants plain continuation] [--coarsest 5000] [--solver auto] [--repeat 1]
+        [--tolerance 1e-8] [--section continuation] [--no-write]
 """
 
 from __future__ import annotations
@@ -26,6 +29,14 @@ from cloth.bodies import body_from_config
 from cloth.predeform import predeform
 from cloth.solvers import Settings, relax
 
+#: Variant -> (continuation, reuse).
+VARIANTS = {
+    "plain": (False, False),
+    "reuse": (False, True),
+    "continuation": (True, False),
+    "continuation+reuse": (True, True),
+}
+
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -35,6 +46,9 @@ def main() -> None:
     parser.add_argument("--repeat", type=int, default=1)
     parser.add_argument("--tolerance", type=float, default=1e-8)
     parser.add_argument("--no-write", action="store_true", help="print, leave the docs alone")
+    parser.add_argument("--variants", nargs="+", default=["plain", "continuation"],
+                        choices=list(VARIANTS))  # fmt: skip
+    parser.add_argument("--section", default="continuation")
     args = parser.parse_args()
     rows = []
     for grid in args.grids:
@@ -49,28 +63,30 @@ def main() -> None:
         body, _ = body_from_config(state.case["body"])
         plain = Settings(tolerance=args.tolerance, max_iterations=100, progress=False, log_every=0,
                          linear_solver=args.solver, coarsest=args.coarsest)  # fmt: skip
-        times: dict[bool, list[float]] = {False: [], True: []}
+        variants = ["plain", *(v for v in args.variants if v != "plain")]
+        times: dict[str, list[float]] = {v: [] for v in variants}
         last = {}
         for _ in range(args.repeat):
-            for continued in (False, True):
-                result = relax(state, body, replace(plain, continuation=continued))
-                times[continued].append(result.seconds)
-                last[continued] = result
-        gap = float(np.abs(last[True].final.x - last[False].final.x).max())
-        base = statistics.median(times[False])
-        for continued in (False, True):
-            result = last[continued]
-            seconds = statistics.median(times[continued])
+            for variant in variants:
+                continued, reuse = VARIANTS[variant]
+                result = relax(state, body, replace(plain, continuation=continued, reuse=reuse))
+                times[variant].append(result.seconds)
+                last[variant] = result
+        base = statistics.median(times["plain"])
+        for variant in variants:
+            result = last[variant]
+            seconds = statistics.median(times[variant])
+            gap = float(np.abs(result.final.x - last["plain"].final.x).max())
             rows.append([
-                grid, f"{n * m:,}", "continuation" if continued else "plain",
-                result.linear_solver, str(result.iterations), str(result.factorisations),
-                f"{result.final.residual:.1e}", f"{seconds:.1f}", f"{seconds / base:.2f}",
-                f"{result.peak_memory / 2**20:.0f}", f"{gap:.1e}" if continued else "",
+                grid, f"{n * m:,}", variant, result.linear_solver, str(result.iterations),
+                str(result.factorisations), f"{result.final.residual:.1e}", f"{seconds:.1f}",
+                f"{seconds / base:.2f}", f"{result.peak_memory / 2**20:.0f}",
+                f"{gap:.1e}" if variant != "plain" else "",
             ])  # fmt: skip
             print(rows[-1], flush=True)
     table = markdown_table(
-        ["grid", "nodes", "start", "solver", "fine iterations", "factorisations", "residual",
-         "time [s]", "time / plain", "peak memory [MiB]", "max position gap [m]"],
+        ["grid", "nodes", "variant", "solver", "fine iterations", "factorisations", "residual",
+         "time [s]", "time / plain", "peak memory [MiB]", "max gap to plain [m]"],
         rows,
     )  # fmt: skip
     note = (
@@ -78,7 +94,7 @@ def main() -> None:
         f"at most {args.coarsest:,} nodes."
     )
     if not args.no_write:
-        replace_section("continuation", note + "\n\n" + table)
+        replace_section(args.section, note + "\n\n" + table)
 
 
 if __name__ == "__main__":

@@ -10,7 +10,8 @@ skin's friction would carry; `cloth.solvers.problem.turning_gauge`). Global attr
 ``solver_residual``, ``solver_linear_solver``, ``solver_seconds``, ``solver_turning_node`` (the
 gauge node's index, -1 for none), ``solver_factorisations`` (linear systems factorised by the
 run, coarse levels included), ``solver_continuation`` (0/1) and ``solver_coarsest`` (its
-coarsest level's node limit), and ``solver_peak_memory_mib`` (the process's peak resident
+coarsest level's node limit), ``solver_reuse`` (0/1: factorisations kept across Newton
+steps), and ``solver_peak_memory_mib`` (the process's peak resident
 memory at its end, MiB). ``solver_iterations`` and the history are the requested grid's.
 """
 
@@ -114,6 +115,7 @@ def relaxed_dataset(
             "solver_factorisations": int(factorisations),
             "solver_continuation": int(settings.continuation),
             "solver_coarsest": int(settings.coarsest),
+            "solver_reuse": int(settings.reuse),
             "solver_peak_memory_mib": float(peak_memory) / 2**20,
         },
     )

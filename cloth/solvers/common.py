@@ -65,6 +65,9 @@ class Settings:
         (`cloth.solvers.continuation`).
     coarsest : int
         With continuation: coarsen until at most this many nodes.
+    reuse : bool
+        Keep SuperLU's factor for the next Newton systems, solved by GMRES preconditioned with
+        it (`cloth.solvers.linear.Reuse`); refactorise when GMRES needs too many iterations.
     """
 
     method: str = "newton"
@@ -76,6 +79,7 @@ class Settings:
     progress: bool | None = None
     continuation: bool = False
     coarsest: int = 5000
+    reuse: bool = False
 
     def __post_init__(self) -> None:
         if self.method not in METHODS:

@@ -55,13 +55,69 @@ def choose(name: str) -> str:
     return name
 
 
-def solve(matrix: sp.csr_matrix, rhs: NDArray[np.float64], name: str) -> NDArray[np.float64]:
-    """Solve ``matrix @ x = rhs`` (symmetric) with solver ``name`` (already `choose`n).
+#: Reuse: GMRES iterations (each one solve with the kept factor) before refactorising, and the
+#: relative residual it must reach (tight: Newton's last steps stay quadratic).
+KRYLOV_LIMIT = 12
+KRYLOV_RTOL = 1e-12
+#: Inexact Newton: a reused solve need only reach FORCING x the relative residual (at most
+#: KRYLOV_LOOSEST); the forcing term shrinks with the residual, so the last steps stay quadratic.
+FORCING = 0.1
+KRYLOV_LOOSEST = 1e-2
+
+
+class Reuse:
+    """A factorisation kept for the next Newton systems (``solver: {reuse: true}``; SuperLU).
+
+    A system of the same size is solved by GMRES (the Newton matrix may be indefinite, and the
+    kept factor is another matrix's, so neither CG nor MINRES applies) preconditioned by the
+    kept factor; when GMRES needs more than `KRYLOV_LIMIT` iterations to reach `KRYLOV_RTOL`,
+    the matrix is factorised afresh and kept. A factor costs 40-60 solves at 100k nodes (issue
+    12), so a Newton step that reuses one costs a few solves instead of a factorisation.
+    ``krylov`` lists the GMRES iterations of every reused solve (0 for a fresh factor)."""
+
+    def __init__(self) -> None:
+        self.factor = None
+        self.size = -1
+        self.krylov: list[int] = []
+        self.rtol = KRYLOV_RTOL
+
+    def solve(self, matrix: sp.csr_matrix, rhs: NDArray[np.float64]) -> NDArray[np.float64]:
+        from scipy.sparse.linalg import LinearOperator, gmres
+
+        if self.factor is not None and matrix.shape[0] == self.size:
+            count = [0]
+
+            def tick(_):
+                count[0] += 1
+
+            factor = self.factor
+            preconditioner = LinearOperator(matrix.shape, matvec=factor.solve)
+            with np.errstate(all="ignore"):
+                x, info = gmres(
+                    matrix, rhs, M=preconditioner, rtol=self.rtol, atol=0.0,
+                    restart=KRYLOV_LIMIT, maxiter=1, callback=tick, callback_type="pr_norm",
+                )  # fmt: skip
+            if info == 0 and np.all(np.isfinite(x)):
+                self.krylov.append(count[0])
+                return x
+        self.factor = _factor(matrix)
+        self.size = matrix.shape[0]
+        self.krylov.append(0)
+        return self.factor.solve(rhs)
+
+
+def solve(
+    matrix: sp.csr_matrix, rhs: NDArray[np.float64], name: str, reuse: Reuse | None = None
+) -> NDArray[np.float64]:
+    """Solve ``matrix @ x = rhs`` (symmetric) with solver ``name`` (already `choose`n), or with
+    ``reuse``'s kept SuperLU factor (`Reuse`).
 
     An iterative or Cholesky backend can fail where the matrix is not positive definite (the
     curvature term of contact can make it indefinite far from equilibrium): that step is then
     solved by SuperLU, with a warning.
     """
+    if name == "superlu" and reuse is not None:
+        return reuse.solve(matrix, rhs)
     if name == "superlu":
         return _solve(matrix, rhs, name)
     try:
@@ -80,19 +136,25 @@ def factorisations() -> int:
     return _factorisations
 
 
-def _solve(matrix: sp.csr_matrix, rhs: NDArray[np.float64], name: str) -> NDArray[np.float64]:
+def _factor(matrix: sp.csr_matrix):
+    """SuperLU's factor of ``matrix`` (counted), tuned for these symmetric systems."""
+    from scipy.sparse.linalg import splu
+
     global _factorisations
     _factorisations += 1
-    if name == "superlu":
-        from scipy.sparse.linalg import splu
+    return splu(
+        matrix.tocsc(),
+        permc_spec="MMD_AT_PLUS_A",
+        diag_pivot_thresh=0.0,
+        options={"SymmetricMode": True},
+    )
 
-        lu = splu(
-            matrix.tocsc(),
-            permc_spec="MMD_AT_PLUS_A",
-            diag_pivot_thresh=0.0,
-            options={"SymmetricMode": True},
-        )
-        return lu.solve(rhs)
+
+def _solve(matrix: sp.csr_matrix, rhs: NDArray[np.float64], name: str) -> NDArray[np.float64]:
+    global _factorisations
+    if name == "superlu":
+        return _factor(matrix).solve(rhs)
+    _factorisations += 1
     if name == "cholmod":
         from sksparse.cholmod import cholesky
 

@@ -51,7 +51,7 @@ from cloth.bodies import MeshBody
 from cloth.grid import FIXED, SLIDING
 from cloth.mechanics import stiffness
 from cloth.solvers.common import CONTACT_TOLERANCE
-from cloth.solvers.linear import INDEFINITE, solve
+from cloth.solvers.linear import FORCING, INDEFINITE, KRYLOV_LOOSEST, KRYLOV_RTOL, Reuse, solve
 from cloth.solvers.problem import Evaluation, Problem
 from cloth.solvers.stepper import Step
 
@@ -152,26 +152,31 @@ class Newton:
     name = "newton"
     code = 1
 
-    def __init__(self, solver: str) -> None:
+    def __init__(self, solver: str, reuse: bool = False) -> None:
         self.solver = solver
+        self.reuse = Reuse() if reuse and solver == "superlu" else None
 
     def step(self, problem: Problem, ev: Evaluation) -> Step:
-        new, move, ok = newton_step(problem, ev, self.solver)
+        if self.reuse is not None:  # inexact Newton: a solve as exact as the residual asks
+            self.reuse.rtol = max(KRYLOV_RTOL, min(KRYLOV_LOOSEST, FORCING * ev.residual))
+        new, move, ok = newton_step(problem, ev, self.solver, self.reuse)
         return Step(new, move, ok)
 
 
-def newton_step(problem: Problem, ev: Evaluation, solver: str) -> tuple[Evaluation, float, bool]:
+def newton_step(
+    problem: Problem, ev: Evaluation, solver: str, reuse: Reuse | None = None
+) -> tuple[Evaluation, float, bool]:
     """One Newton iteration with line search: (new evaluation, largest move in m, accepted)."""
     k = stiffness_at(problem, ev)
     held = held_nodes(problem, ev, k)
     if isinstance(problem.body, MeshBody) and np.any(held):
-        return _mesh_step(problem, ev, held, k, solver)
+        return _mesh_step(problem, ev, held, k, solver, reuse)
     # the exact Hessian first (compressed springs soften the fabric across them) where the
     # backend takes indefinite matrices, then the projected one
     tries = (False, True) if solver in INDEFINITE else (True,)
     for _ in range(KEEP_PASSES):
         projector, _ = problem.basis(ev.x, ev.normal, held)
-        dx, slope = _direction(problem, ev, held, projector, k, solver, tries)
+        dx, slope = _direction(problem, ev, held, projector, k, solver, tries, reuse)
         enter = entering(problem, ev, held, dx)
         if not np.any(enter):
             break
@@ -198,6 +203,7 @@ def _direction(
     k: Stiffness,
     solver: str,
     tries: tuple[bool, ...],
+    reuse: Reuse | None = None,
 ) -> tuple[NDArray[np.float64], float]:
     """The Newton move ((N, 3), m) in the allowed directions (``projector``, (N, 3, 3)) and its
     slope (P R) . dx (J): with the stiffness ``k(project)`` for each of ``tries`` in turn until
@@ -211,7 +217,7 @@ def _direction(
     matrix = None
     for project in tries:
         matrix = newton_matrix(problem, ev, held, projector, k(project))
-        dx, slope = _solve_step(matrix, rhs, projector, solver)
+        dx, slope = _solve_step(matrix, rhs, projector, solver, reuse)
         if slope > 0:
             return dx, slope
         if np.all(np.isfinite(dx)) and np.any(dx):
@@ -225,7 +231,7 @@ def _direction(
         shift = max(-2.0 * curvature, SHIFT_START * scale)
         identity = sp.identity(matrix.shape[0], format="csr")
         while shift <= SHIFT_LIMIT * scale:
-            dx, slope = _solve_step(matrix + shift * identity, rhs, projector, solver)
+            dx, slope = _solve_step(matrix + shift * identity, rhs, projector, solver, reuse)
             if slope > 0:
                 return dx, slope
             shift *= SHIFT_GROWTH
@@ -236,12 +242,16 @@ def _direction(
 
 
 def _solve_step(
-    matrix: sp.csr_matrix, rhs: NDArray[np.float64], projector: NDArray[np.float64], solver: str
+    matrix: sp.csr_matrix,
+    rhs: NDArray[np.float64],
+    projector: NDArray[np.float64],
+    solver: str,
+    reuse: Reuse | None = None,
 ) -> tuple[NDArray[np.float64], float]:
     """The move ``matrix^-1 rhs`` in the allowed directions ((N, 3), m) and its slope (J); the
     slope is NaN where the matrix is singular."""
     try:
-        dx = solve(matrix, rhs, solver).reshape(-1, 3)
+        dx = solve(matrix, rhs, solver, reuse).reshape(-1, 3)
     except RuntimeError:  # SuperLU: "factor is exactly singular"
         return np.zeros((len(rhs) // 3, 3)), float("nan")
     dx = np.einsum("nij,nj->ni", projector, dx)
@@ -286,7 +296,12 @@ def _plane_constraints(
 
 
 def _mesh_step(
-    problem: Problem, ev: Evaluation, held: NDArray[np.bool_], k: Stiffness, solver: str
+    problem: Problem,
+    ev: Evaluation,
+    held: NDArray[np.bool_],
+    k: Stiffness,
+    solver: str,
+    reuse: Reuse | None = None,
 ):
     """Newton on a polyhedral body: every active face plane is a constraint (a node on an
     edge with both faces pushing slides along the edge), linearised exactly (planes)."""
@@ -308,5 +323,5 @@ def _mesh_step(
     projector[problem.constraint == FIXED] = 0.0
     correction[problem.constraint == FIXED] = 0.0
     problem.hold_turning(ev.x, projector)
-    dx, slope = _direction(problem, ev, np.zeros(count, bool), projector, k, solver, (True,))
+    dx, slope = _direction(problem, ev, np.zeros(count, bool), projector, k, solver, (True,), reuse)
     return _line_search(problem, ev, dx + correction, slope)

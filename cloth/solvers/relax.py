@@ -68,7 +68,7 @@ def _phases(problem: Problem, settings: Settings, solver: str) -> list[tuple[Ste
         count = settings.max_iterations if settings.method == "explicit" else settings.warm_start
         phases.append((Explicit(MAX_STEP * shortest_rest(problem)), count))
     if settings.method in ("newton", "explicit+newton"):
-        phases.append((Newton(solver), settings.max_iterations))
+        phases.append((Newton(solver, settings.reuse), settings.max_iterations))
     return phases
 
 
