@@ -40,7 +40,7 @@ class LogProgress:
             )  # fmt: skip
 
     def __iter__(self) -> Iterator:
-        for item in self.iterable or ():
+        for item in () if self.iterable is None else self.iterable:
             yield item
             self.update()
 

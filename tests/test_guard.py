@@ -111,3 +111,41 @@ def test_face_counts_come_from_headers_or_bound_the_file(tmp_path):
     assert mesh_faces(tmp_path / "ball.obj") >= len(mesh.faces)  # a bound from the size
     assert mesh_faces(tmp_path / "missing.obj") == 0
     assert np.isfinite(estimate("predeform", 1000, len(mesh.faces)).seconds)
+
+
+def test_long_work_off_a_terminal_reports_in_log_lines(caplog):
+    import logging
+
+    import numpy as np
+
+    from cloth.progress import LogProgress, progress
+
+    with caplog.at_level(logging.INFO, logger="cloth.progress"):
+        bar = progress(total=1000, desc="fit", unit="sample")  # pytest's stderr: no terminal
+        assert isinstance(bar, LogProgress)
+        with bar:
+            for _ in range(100):
+                bar.update(10)
+        assert list(progress(range(5), desc="rows", show=None)) == list(range(5))
+        heights = np.linspace(0.8, 1.2, 7)  # predeform's rows: an array, not a list
+        assert list(progress(heights, desc="rows", unit="row")) == list(heights)
+    lines = [r.getMessage() for r in caplog.records if r.getMessage().startswith("fit:")]
+    assert len(lines) == 10 and lines[-1].startswith("fit: 100 % (1,000 of 1,000 sample")
+
+
+def test_a_large_predeform_off_a_terminal_logs_its_progress(caplog):
+    import logging
+
+    from cloth.predeform import PROGRESS_NODES, predeform
+
+    n, m = 400, 130  # 52,000 nodes: above the progress threshold
+    assert n * m > PROGRESS_NODES
+    case = {
+        "material": "powernet",
+        "body": {"cylinder": {"radius": 0.1, "bottom": 0.0, "top": 0.5}},
+        "garment": {"bottom": 0.1, "top": 0.4, "reduction": 0.2, "grid": [n, m]},
+    }
+    with caplog.at_level(logging.INFO, logger="cloth.progress"):
+        state = predeform(case)
+    assert state.x.shape == (n * m, 3)
+    assert any(r.getMessage().startswith("predeform: row sections: 100 %") for r in caplog.records)
