@@ -28,6 +28,7 @@ from _table import markdown_table, replace_section
 from cloth.bodies import body_from_config
 from cloth.predeform import predeform
 from cloth.solvers import Settings, relax
+from cloth.solvers.relax import reset_peak_memory
 
 #: Variant -> (continuation, reuse).
 VARIANTS = {
@@ -69,6 +70,7 @@ def main() -> None:
         for _ in range(args.repeat):
             for variant in variants:
                 continued, reuse = VARIANTS[variant]
+                reset_peak_memory()  # each variant's own peak
                 result = relax(state, body, replace(plain, continuation=continued, reuse=reuse))
                 times[variant].append(result.seconds)
                 last[variant] = result

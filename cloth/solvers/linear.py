@@ -100,6 +100,7 @@ class Reuse:
             if info == 0 and np.all(np.isfinite(x)):
                 self.krylov.append(count[0])
                 return x
+        self.factor = None  # let the old factor go before the new one is built (peak memory)
         self.factor = _factor(matrix)
         self.size = matrix.shape[0]
         self.krylov.append(0)
