@@ -21,12 +21,11 @@ import time
 
 import numpy as np
 from _table import markdown_table, replace_section
+from _torso import torso_case
 from scipy.optimize import minimize
 
-from cloth.bodies import body_from_config
 from cloth.grid import FIXED, SLIDING
 from cloth.mechanics import energy, forces
-from cloth.predeform import predeform
 from cloth.solvers import Settings, relax
 from cloth.solvers.problem import Problem
 
@@ -80,15 +79,7 @@ def main() -> None:
     args = parser.parse_args()
     rows = []
     for grid in args.grids:
-        n, m = (int(v) for v in grid.split("x"))
-        case = {
-            "material": "powernet",
-            "body": {"torso": {"size": "M"}},
-            "garment": {"bottom": 0.80, "top": 1.25, "reduction": 0.15, "grid": [n, m],
-                        "edges": "sliding"},
-        }  # fmt: skip
-        state = predeform(case)
-        body, _ = body_from_config(state.case["body"])
+        n, m, state, body = torso_case(grid)
         problem = Problem.of(state, body)
         base = Settings(tolerance=TARGET, max_iterations=150, progress=False, log_every=0,
                         linear_solver="superlu")  # fmt: skip

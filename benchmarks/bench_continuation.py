@@ -24,9 +24,8 @@ from dataclasses import replace
 
 import numpy as np
 from _table import markdown_table, replace_section
+from _torso import torso_case
 
-from cloth.bodies import body_from_config
-from cloth.predeform import predeform
 from cloth.solvers import Settings, relax
 from cloth.solvers.relax import reset_peak_memory
 
@@ -53,15 +52,7 @@ def main() -> None:
     args = parser.parse_args()
     rows = []
     for grid in args.grids:
-        n, m = (int(v) for v in grid.split("x"))
-        case = {
-            "material": "powernet",
-            "body": {"torso": {"size": "M"}},
-            "garment": {"bottom": 0.80, "top": 1.25, "reduction": 0.15, "grid": [n, m],
-                        "edges": "sliding"},
-        }  # fmt: skip
-        state = predeform(case)
-        body, _ = body_from_config(state.case["body"])
+        n, m, state, body = torso_case(grid)
         plain = Settings(tolerance=args.tolerance, max_iterations=100, progress=False, log_every=0,
                          linear_solver=args.solver, coarsest=args.coarsest)  # fmt: skip
         variants = ["plain", *(v for v in args.variants if v != "plain")]

@@ -1,0 +1,20 @@
+"""The benchmarks' torso case: torso M (smooth), power net, 15 % reduction, 0.80-1.25 m (every
+girth line inside the garment), sliding edges, on a grid given as ``"NxM"``."""
+
+from __future__ import annotations
+
+from cloth.bodies import body_from_config
+from cloth.predeform import predeform
+
+
+def torso_case(grid: str):
+    """(n, m, the wrapped state, its body) of the torso case on ``grid`` (``"448x224"``)."""
+    n, m = (int(v) for v in grid.split("x"))
+    case = {
+        "material": "powernet",
+        "body": {"torso": {"size": "M"}},
+        "garment": {"bottom": 0.80, "top": 1.25, "reduction": 0.15, "grid": [n, m],
+                    "edges": "sliding"},
+    }  # fmt: skip
+    state = predeform(case)
+    return n, m, state, body_from_config(state.case["body"])[0]
