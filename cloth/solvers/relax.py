@@ -18,7 +18,7 @@ from cloth.solvers.explicit import MAX_STEP, Explicit, shortest_rest
 from cloth.solvers.linear import choose, factorisations
 from cloth.solvers.newton import Newton
 from cloth.solvers.problem import Evaluation, Problem
-from cloth.solvers.stepper import Callback, LogLine, ProgressBar, Stepper
+from cloth.solvers.stepper import Callback, LogLine, ProgressBar, Step, Stepper
 from cloth.statefile import State
 
 log = logging.getLogger(__name__)
@@ -50,6 +50,17 @@ def _record(history: History, problem: Problem, ev: Evaluation, step: float, met
     history.record(
         ev.residual, ev.energy, ev.penetration, problem.contacts(ev), step, method, ev.turning
     )
+
+
+class Recorder:
+    """The callback that keeps the history: each step's residual, energy, penetration,
+    contacts, move, method and turning force (the first of `relax`'s callbacks)."""
+
+    def __init__(self, history: History, problem: Problem) -> None:
+        self.history, self.problem = history, problem
+
+    def __call__(self, iteration: int, stepper: Stepper, step: Step, history: History) -> None:
+        _record(self.history, self.problem, step.evaluation, step.move, stepper.code)
 
 
 def _check(ev: Evaluation, last_good: NDArray, history: History, peak: float) -> None:
@@ -94,7 +105,7 @@ def relax(
     phases = _phases(problem, settings, solver)
     iterations = 0
     with ProgressBar(sum(count for _, count in phases), settings) as bar:
-        listeners = [bar, LogLine(settings.log_every), *callbacks]
+        listeners = [Recorder(history, problem), bar, LogLine(settings.log_every), *callbacks]
         for stepper, count in phases:
             for _ in range(count):
                 if ev.residual <= settings.tolerance:
@@ -104,7 +115,6 @@ def relax(
                 ev = step.evaluation
                 peak = max(peak, ev.energy)
                 iterations += 1
-                _record(history, problem, ev, step.move, stepper.code)
                 for listener in listeners:
                     listener(iterations, stepper, step, history)
                 if not step.ok:

@@ -1,7 +1,7 @@
 """The shape every relaxation method shares: a stepper takes the problem and the current
 evaluation and returns a `Step`; `cloth.solvers.relax.relax` runs steppers in phases and hands
-each step to its callbacks (the progress bar, the log line, and any of the caller's), as
-PyElastica's time steppers and callbacks do.
+each step to its callbacks (the history's recorder, the progress bar, the log line, and any of
+the caller's), as PyElastica's time steppers and callbacks do.
 
 Steppers: `cloth.solvers.explicit.Explicit` (the paper's eq. 2) and
 `cloth.solvers.newton.Newton` (sparse Newton with contact and line search).
