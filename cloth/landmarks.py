@@ -73,6 +73,15 @@ class Landmark:
         }
 
 
+def nearest_row(rows_z: NDArray[np.float64], height: float) -> int | None:
+    """The grid row ((m,) mean row heights, m) nearest ``height`` (m), or None when the height
+    lies more than half the widest row spacing beyond the garment's edge rows."""
+    half = 0.5 * float(np.max(np.abs(np.diff(rows_z)))) if len(rows_z) > 1 else 0.0
+    if not rows_z.min() - half <= height <= rows_z.max() + half:
+        return None
+    return int(np.argmin(np.abs(rows_z - height)))
+
+
 def landmarks(
     heights: dict[str, float], x: NDArray[np.float64], fields: NodeFields, grid: Grid
 ) -> list[Landmark]:
@@ -83,10 +92,9 @@ def landmarks(
     tension = fields.tension_weft.reshape(grid.m, grid.n)
     out = []
     for name, height in sorted(heights.items(), key=lambda item: item[1]):
-        half = 0.5 * float(np.max(np.abs(np.diff(rows_z)))) if grid.m > 1 else 0.0
-        if not rows_z.min() - half <= height <= rows_z.max() + half:
+        row = nearest_row(rows_z, height)
+        if row is None:
             continue
-        row = int(np.argmin(np.abs(rows_z - height)))
         values = np.where(contact[row], pressure[row], 0.0)
         out.append(
             Landmark(

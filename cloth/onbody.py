@@ -116,14 +116,16 @@ def visible_quads(ds: xr.Dataset, variable: str, scale: float, azimuth: float):
 
 
 def _girth_rows(ds: xr.Dataset) -> list[tuple[str, int, int]]:
-    """(landmark, its row, its index in the landmark dim) of every landmark on the garment."""
+    """(landmark, its row, its index in the landmark dim) of every landmark on the garment (the
+    row the summary took, `cloth.landmarks.nearest_row`)."""
+    from cloth.landmarks import nearest_row
+
     heights = ds["z"].values.mean(axis=1)
-    half_row = 0.5 * float(np.ptp(heights)) / max(len(heights) - 1, 1)  # edge lines count
     rows = []
     for index, name in enumerate(ds["landmark"].values.tolist()):
-        height = float(ds["landmark_height"][index])
-        if heights.min() - half_row <= height <= heights.max() + half_row:
-            rows.append((str(name), int(np.argmin(np.abs(heights - height))), index))
+        row = nearest_row(heights, float(ds["landmark_height"][index]))
+        if row is not None:
+            rows.append((str(name), row, index))
     return rows
 
 

@@ -203,6 +203,7 @@ def plot_result(
     """Every figure of a result: stress maps (the paper's Figure 4), the garment in 3D (its
     Figure 3), pressure in mmHg with the RAL class bounds, landmark profiles, convergence,
     material curves. Fixed colour ranges (Pa, mmHg) make runs comparable."""
+    from cloth.landmarks import nearest_row
     from cloth.pressure import RAL_CLASSES
 
     folder = Path(folder)
@@ -245,9 +246,9 @@ def plot_result(
     fig, ax = plt.subplots(figsize=(6.4, 4.0), layout="constrained")
     angle = np.linspace(0, 360, n, endpoint=False)
     for index, name in enumerate(ds["landmark"].values.tolist()):
-        row = int(
-            np.argmin(np.abs(ds["z"].values.mean(axis=1) - float(ds["landmark_height"][index])))
-        )
+        row = nearest_row(ds["z"].values.mean(axis=1), float(ds["landmark_height"][index]))
+        if row is None:  # every landmark a result holds is on its garment; kept for safety
+            continue
         ax.plot(
             angle,
             ds["pressure_mmHg"].values[row],
