@@ -86,8 +86,11 @@ def held_nodes(problem: Problem, ev: Evaluation, k: Stiffness) -> NDArray[np.boo
     normal stiffness: otherwise the springs would pull it back off once there. A node where
     the fabric bridges a hollow (the cleavage) otherwise hovers with a near-zero push, is put
     down, pulled off, and costs an iteration each time (measured on the smooth torso).
-    ``k(True)`` is the projected stiffness, assembled only if some node hovers.
+    ``k(True)`` is the projected stiffness, assembled only if some node hovers. With tissue the
+    skin gives way and holds no node (the layer's force is in the loads).
     """
+    if problem.tissue is not None:
+        return np.zeros(problem.grid.n_nodes, bool)
     gap = GAP * float(problem.grid.rest_length.min())
     push = ev.push
     held = (ev.distance <= CONTACT_TOLERANCE) & (push > 0.0)
@@ -110,6 +113,8 @@ def entering(
     """Nodes on the body that the active set releases (not ``held``) but whose Newton move
     ``dx`` ((N, 3), m) goes into the body: released, they would be stepped inside and projected
     back, and the line search would halve the step every iteration; they stay held."""
+    if problem.tissue is not None:
+        return np.zeros(problem.grid.n_nodes, bool)
     touching = (ev.distance <= CONTACT_TOLERANCE) & (problem.constraint != FIXED)
     inward = np.einsum("ij,ij->i", dx, ev.normal) < -CONTACT_TOLERANCE
     return touching & ~held & inward
@@ -117,10 +122,38 @@ def entering(
 
 def stiffness_at(problem: Problem, ev: Evaluation) -> Stiffness:
     """``k(project)``: the stiffness at ``ev`` ((3N, 3N) CSR, N/m), exact or with each spring's
-    Hessian projected to positive semi-definite, each assembled at most once."""
-    return functools.cache(
-        lambda project: stiffness(ev.x, problem.grid, project=project, state=ev.springs).tocsr()
-    )
+    Hessian projected to positive semi-definite, each assembled at most once; with the skin
+    models' Hessians (`skin_blocks`) added."""
+
+    def assemble(project: bool) -> sp.csr_matrix:
+        k = stiffness(ev.x, problem.grid, project=project, state=ev.springs).tocsr()
+        blocks = skin_blocks(problem, ev, project)
+        return k if blocks is None else (k + _block_diagonal(blocks)).tocsr()
+
+    return functools.cache(assemble)
+
+
+def skin_blocks(problem: Problem, ev: Evaluation, project: bool) -> NDArray[np.float64] | None:
+    """The tissue layer's and the friction potential's Hessians per node ((N, 3, 3), N/m), or
+    None without them; ``project`` drops the tissue's indefinite curvature term."""
+    if not problem.lagged:
+        return None
+    blocks = np.zeros((problem.grid.n_nodes, 3, 3))
+    if problem.tissue is not None:
+        hessian = getattr(problem.body, "hessian", None)
+        inside = ev.distance < 0.0
+        curvature = None
+        if hessian is not None and np.any(inside):
+            # grad^2 d at depth d under the skin: H (I + d H)^-1, H the skin's at the closest
+            # point (the principal curvatures kappa become kappa / (1 + kappa d))
+            surface = hessian(ev.closest[inside])
+            depth = ev.distance[inside][:, None, None]
+            curvature = np.zeros_like(blocks)
+            curvature[inside] = surface @ np.linalg.inv(np.eye(3) + depth * surface)
+        blocks += problem.tissue.hessian_blocks(ev.distance, ev.normal, curvature, project)
+    if problem.friction is not None:
+        blocks += problem.friction.hessian_blocks(ev.x)
+    return blocks
 
 
 def newton_matrix(
@@ -211,7 +244,7 @@ def _direction(
     shifted by s I (Levenberg-Marquardt), s from twice the most negative curvature met along a
     refused move, growing ``SHIFT_GROWTH``-fold up to ``SHIFT_LIMIT`` x its largest diagonal
     entry; else a scaled gradient step. ``held`` nodes get the body's curvature term."""
-    free = np.einsum("nij,nj->ni", projector, ev.forces)
+    free = np.einsum("nij,nj->ni", projector, ev.loads)
     rhs = free.ravel()
     curvature = 0.0  # the most negative curvature seen along a refused step, N/m
     matrix = None
@@ -307,7 +340,7 @@ def _mesh_step(
     edge with both faces pushing slides along the edge), linearised exactly (planes)."""
     rows = np.flatnonzero(held)
     sliding = problem.constraint == SLIDING
-    normals, offsets, _ = contact.frames(problem.body, ev.x[rows], ev.forces[rows], sliding[rows])
+    normals, offsets, _ = contact.frames(problem.body, ev.x[rows], ev.loads[rows], sliding[rows])
     count = problem.grid.n_nodes
     basis = np.zeros((count, 4, 3))  # constraint directions per node
     target = np.zeros((count, 4))  # required n . dx

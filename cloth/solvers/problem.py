@@ -9,6 +9,7 @@ from numpy.typing import NDArray
 
 from cloth import contact
 from cloth.bodies import Body, MeshBody
+from cloth.friction import Friction
 from cloth.grid import FIXED, SLIDING, Grid
 from cloth.mechanics import SpringState, energy, spring_forces, spring_state
 from cloth.solvers.common import (
@@ -20,6 +21,7 @@ from cloth.solvers.common import (
     typical_force,
 )
 from cloth.statefile import State
+from cloth.tissue import Layer
 
 #: Newton corrections along the horizontal normal that put a sliding edge node on the body.
 LEVEL_ITERATIONS = 3
@@ -29,14 +31,19 @@ LEVEL_ITERATIONS = 3
 class Evaluation:
     """Everything the solvers need at positions x ((N, 3), m).
 
-    forces (N, 3) N: resultant spring force R; distance (N,) m, closest (N, 3) m, normal (N, 3):
-    body query; push (N,) N: the body's reaction lambda that would balance each node
-    (`cloth.solvers.common.body_push`); on_body (N,) bool: nodes held by the body (on or inside
-    it, lambda > 0);
-    projector (N, 3, 3): allowed directions; free (N, 3) N: P R; unbalanced (N, 3) N: R less
-    the body's reaction (no edge constraints); residual (1); energy (J);
-    penetration (m, >= 0); springs: the spring state; turning (N): the force on the gauge node
-    along its turn, which the gauge carries (`turning_gauge`; 0 without one).
+    forces (N, 3) N: resultant spring force R; loads (N, 3) N: what the solver balances
+    against the rigid body, R plus the tissue's push and the skin's friction (R itself without
+    them); distance (N,) m, closest (N, 3) m, normal (N, 3): body query (the undeformed skin's
+    with tissue); push (N,) N: the body's reaction lambda that would balance each node
+    (`cloth.solvers.common.body_push`; the tissue's push k u with tissue); on_body (N,) bool:
+    nodes held by the body (on or inside it, lambda > 0; with tissue: indenting it);
+    projector (N, 3, 3): allowed directions; free (N, 3) N: P loads; unbalanced (N, 3) N: loads
+    less the rigid body's reaction (no edge constraints); residual (1); energy (J: strain energy,
+    plus the tissue's and the friction potential with them); penetration (m, >= 0: into the
+    rigid body, or past the tissue into its core); springs: the spring state; turning (N): the
+    force on the gauge node along its turn, which the gauge carries (`turning_gauge`; 0 without
+    one); friction (N, 3) N: the skin's friction force (None without friction); indentation
+    (N,) m: how far each node presses the tissue in (None without tissue).
     """
 
     x: NDArray[np.float64]
@@ -55,6 +62,9 @@ class Evaluation:
     energy: float
     penetration: float
     turning: float = 0.0
+    loads: NDArray[np.float64] | None = None
+    friction: NDArray[np.float64] | None = None
+    indentation: NDArray[np.float64] | None = None
 
 
 def turning_gauge(grid: Grid, constraint: NDArray[np.int8]) -> int | None:
@@ -72,18 +82,32 @@ def turning_gauge(grid: Grid, constraint: NDArray[np.int8]) -> int | None:
 
 @dataclass(frozen=True, eq=False)
 class Problem:
-    """The grid, the body, the nodes' constraints (`cloth.statefile`: free, sliding, fixed) and the
-    node held against turning (`turning_gauge`; None: none)."""
+    """The grid, the body, the nodes' constraints (`cloth.statefile`: free, sliding, fixed), the
+    node held against turning (`turning_gauge`; None: none), and the lagged skin models: the
+    tissue layer under each node (`cloth.tissue.Layer`; None: a rigid body) and the friction
+    (`cloth.friction.Friction`; None: frictionless)."""
 
     grid: Grid
     body: Body
     constraint: NDArray[np.int8]
     gauge: int | None = None
+    tissue: Layer | None = None
+    friction: Friction | None = None
 
     @classmethod
     def of(cls, state: State, body: Body) -> Problem:
-        """The problem of relaxing ``state`` on ``body``, with its turning gauge."""
-        return cls(state.grid, body, state.constraint, turning_gauge(state.grid, state.constraint))
+        """The problem of relaxing ``state`` on ``body``, with its turning gauge and the skin
+        models its case asks for (`cloth.solvers.lagged.skin_models`)."""
+        from cloth.solvers.lagged import skin_models
+
+        tissue, friction = skin_models(state)
+        gauge = turning_gauge(state.grid, state.constraint)
+        return cls(state.grid, body, state.constraint, gauge, tissue, friction)
+
+    @property
+    def lagged(self) -> bool:
+        """Whether the problem has lagged quantities (tissue areas, friction normal forces)."""
+        return self.tissue is not None or self.friction is not None
 
     def basis(
         self, x: NDArray[np.float64], normal: NDArray[np.float64], on_body: NDArray[np.bool_]
@@ -117,30 +141,31 @@ class Problem:
         spring_force = spring_forces(springs, self.grid)
         forces = -(_operators(self.grid).incidence_t @ spring_force)
         distance, closest, normal = self.body.query(x)
-        push = body_push(forces, normal, self.constraint)
-        on_body = pushing(push, distance)
-        projector, turn = self.basis(x, normal, on_body)
-        free = np.einsum("nij,nj->ni", projector, forces)
-        # what the body cannot balance (before edge constraints): R + lambda n on held nodes
-        unbalanced = forces + np.where(on_body, push, 0.0)[:, None] * normal
-        if isinstance(self.body, MeshBody) and np.any(on_body):
-            # the exact frictionless residual on a polyhedron: remove the normal cone, then
-            # what the edge constraints carry
-            held = np.flatnonzero(on_body)
-            unbalanced[held] = contact.remainder(self.body, x[held], forces[held])
-            remainder = unbalanced[held].copy()
-            sliding = np.flatnonzero(self.constraint[held] == SLIDING)
-            if sliding.size:  # their vertical reaction comes from the edge support
-                rows = held[sliding]
-                remainder[sliding] = contact.remainder(
-                    self.body, x[rows], forces[rows], np.ones(sliding.size, bool)
-                )
-            edge_only = constraint_basis(
-                self.constraint[held], normal[held], np.zeros(len(held), bool)
-            )
-            free[held] = np.einsum("nij,nj->ni", edge_only, remainder)
-            if self.gauge is not None:  # the gauge holds it against turning
-                free[self.gauge] -= (free[self.gauge] @ turn) * turn
+        work = energy(x, self.grid, springs)
+        loads, friction, indentation = forces, None, None
+        if self.tissue is not None:
+            indentation, push_force, stored = self.tissue.response(distance, normal)
+            loads, work = loads + push_force, work + stored
+        if self.friction is not None:
+            friction, dissipation = self.friction.response(x)
+            loads, work = loads + friction, work + dissipation
+        if self.tissue is not None:  # the layer is the body's only reaction: no rigid contact
+            push = self.tissue.stiffness * indentation
+            on_body = indentation > 0.0
+            projector, turn = self.basis(x, normal, np.zeros(len(x), bool))
+            free = np.einsum("nij,nj->ni", projector, loads)
+            unbalanced = loads.copy()
+            penetration = float(max(0.0, np.max(indentation - self.tissue.thickness)))
+        else:
+            push = body_push(loads, normal, self.constraint)
+            on_body = pushing(push, distance)
+            projector, turn = self.basis(x, normal, on_body)
+            free = np.einsum("nij,nj->ni", projector, loads)
+            # what the body cannot balance (before edge constraints): R + lambda n on held nodes
+            unbalanced = loads + np.where(on_body, push, 0.0)[:, None] * normal
+            if isinstance(self.body, MeshBody) and np.any(on_body):
+                self._mesh_remainder(x, loads, normal, on_body, free, unbalanced, turn)
+            penetration = float(max(0.0, -distance.min())) if len(distance) else 0.0
         typical = typical_force(np.linalg.norm(spring_force, axis=1), self.grid.family)
         return Evaluation(
             x=x,
@@ -156,17 +181,40 @@ class Problem:
             unbalanced=unbalanced,
             typical=typical,
             residual=relative_residual(free, typical),
-            energy=energy(x, self.grid, springs),
-            penetration=float(max(0.0, -distance.min())) if len(distance) else 0.0,
-            turning=float(forces[self.gauge] @ turn) if self.gauge is not None else 0.0,
+            energy=work,
+            penetration=penetration,
+            turning=float(loads[self.gauge] @ turn) if self.gauge is not None else 0.0,
+            loads=loads,
+            friction=friction,
+            indentation=indentation,
         )
+
+    def _mesh_remainder(self, x, loads, normal, on_body, free, unbalanced, turn) -> None:
+        """The exact frictionless residual on a polyhedron (``free`` and ``unbalanced`` of the
+        held nodes, in place): remove the normal cone, then what the edge constraints carry."""
+        held = np.flatnonzero(on_body)
+        unbalanced[held] = contact.remainder(self.body, x[held], loads[held])
+        remainder = unbalanced[held].copy()
+        sliding = np.flatnonzero(self.constraint[held] == SLIDING)
+        if sliding.size:  # their vertical reaction comes from the edge support
+            rows = held[sliding]
+            remainder[sliding] = contact.remainder(
+                self.body, x[rows], loads[rows], np.ones(sliding.size, bool)
+            )
+        edge_only = constraint_basis(self.constraint[held], normal[held], np.zeros(len(held), bool))
+        free[held] = np.einsum("nij,nj->ni", edge_only, remainder)
+        if self.gauge is not None:  # the gauge holds it against turning
+            free[self.gauge] -= (free[self.gauge] @ turn) * turn
 
     def project_out(
         self, x: NDArray[np.float64], hold: NDArray[np.bool_] | None = None
     ) -> NDArray[np.float64]:
         """Move nodes inside the body, and the ``hold`` nodes wherever they are, onto its
         surface: to the closest point, or for a sliding edge node, along its horizontal normal
-        (its height is the edge's: Newton on the distance, ``LEVEL_ITERATIONS`` queries)."""
+        (its height is the edge's: Newton on the distance, ``LEVEL_ITERATIONS`` queries). With
+        tissue the skin gives way: nothing is moved."""
+        if self.tissue is not None:
+            return x
         distance, closest, normal = self.body.query(x)
         move = distance < 0.0
         if hold is not None:

@@ -6,12 +6,14 @@ import logging
 import sys
 import time
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import NDArray
 
 from cloth.bodies import Body
+from cloth.errors import InputError
+from cloth.solvers import lagged
 from cloth.solvers.common import Diverged, History, Settings
 from cloth.solvers.continuation import start_from_coarse
 from cloth.solvers.explicit import MAX_STEP, Explicit, shortest_rest
@@ -33,7 +35,9 @@ GROWTH = 10.0
 class Result:
     """Outcome of `relax`: final evaluation, history and solver facts (``factorisations``:
     linear systems factorised by the run; ``peak_memory``: the process's peak resident memory
-    at its end, bytes)."""
+    at its end, bytes; ``lags``: solves with the skin models' lagged quantities, 0 without them;
+    ``friction``: with friction, the skin's friction force ``force`` ((N, 3), N) and each
+    node's ``state`` ((N,) int8: 0 off the skin, 1 sticking, 2 slipping))."""
 
     final: Evaluation
     history: History
@@ -44,6 +48,8 @@ class Result:
     seconds: float
     factorisations: int = 0
     peak_memory: float = 0.0
+    lags: int = 0
+    friction: dict[str, NDArray] = field(default_factory=dict)
 
 
 def _record(history: History, problem: Problem, ev: Evaluation, step: float, method: int) -> None:
@@ -83,6 +89,26 @@ def _phases(problem: Problem, settings: Settings, solver: str) -> list[tuple[Ste
     return phases
 
 
+def _check_skin_settings(state: State, settings: Settings) -> None:
+    """Tissue and friction are solved by Newton only, and friction not from a coarse grid's
+    answer (it depends on the path: the relaxation from the wrap)."""
+    case = state.case
+    tissue = (case.get("body") or {}).get("tissue") is not None
+    friction = float((case.get("contact") or {}).get("friction", 0.0) or 0.0) != 0.0
+    if (tissue or friction) and settings.method != "newton":
+        raise InputError(
+            f"tissue and friction are solved by method newton only, got {settings.method}; "
+            "set solver.method: newton",
+            field="solver.method",
+        )
+    if friction and settings.continuation:
+        raise InputError(
+            "friction depends on the path from the wrapped state, which continuation replaces; "
+            "set solver.continuation: false",
+            field="solver.continuation",
+        )
+
+
 def relax(
     state: State, body: Body, settings: Settings, callbacks: Sequence[Callback] = ()
 ) -> Result:
@@ -94,36 +120,57 @@ def relax(
     """
     start = time.perf_counter()
     factorised = factorisations()
+    _check_skin_settings(state, settings)
     if settings.continuation:
         state = start_from_coarse(state, body, settings, relax)
     problem = Problem.of(state, body)
     solver = choose(settings.linear_solver) if settings.method != "explicit" else "none"
     history = History()
     ev = problem.evaluate(problem.project_out(state.x))
+    if problem.lagged:
+        problem = lagged.start(problem, ev)
+        ev = problem.evaluate(ev.x)
     _record(history, problem, ev, 0.0, 0)
     peak = max(ev.energy, 1e-300)
     phases = _phases(problem, settings, solver)
-    iterations = 0
+    iterations, lags, change = 0, 0, 0.0
     with ProgressBar(sum(count for _, count in phases), settings) as bar:
         listeners = [Recorder(history, problem), bar, LogLine(settings.log_every), *callbacks]
-        for stepper, count in phases:
-            for _ in range(count):
-                if ev.residual <= settings.tolerance:
-                    break
-                step = stepper.step(problem, ev)
-                _check(step.evaluation, ev.x, history, peak)
-                ev = step.evaluation
-                peak = max(peak, ev.energy)
-                iterations += 1
-                for listener in listeners:
-                    listener(iterations, stepper, step, history)
-                if not step.ok:
-                    log.warning(
-                        "%s: the line search found no decrease at residual %.3e; stopping",
-                        stepper.name, ev.residual,
-                    )  # fmt: skip
-                    break
-    converged = ev.residual <= settings.tolerance
+        while True:
+            for stepper, count in phases:
+                for _ in range(count):
+                    if ev.residual <= settings.tolerance:
+                        break
+                    step = stepper.step(problem, ev)
+                    _check(step.evaluation, ev.x, history, peak)
+                    ev = step.evaluation
+                    peak = max(peak, ev.energy)
+                    iterations += 1
+                    for listener in listeners:
+                        listener(iterations, stepper, step, history)
+                    if not step.ok:
+                        log.warning(
+                            "%s: the line search found no decrease at residual %.3e; stopping",
+                            stepper.name, ev.residual,
+                        )  # fmt: skip
+                        break
+            if not problem.lagged:
+                break
+            # the skin models' lagged quantities from this solution, and solve again
+            problem, change = lagged.relag(problem, ev)
+            ev = problem.evaluate(ev.x)
+            peak = max(peak, ev.energy)
+            lags += 1
+            log.info("lagged skin models: change %.3e after solve %d", change, lags)
+            settled = change <= lagged.LAG_TOLERANCE and ev.residual <= settings.tolerance
+            if settled or lags >= lagged.MAX_LAGS:
+                break
+    if problem.lagged and change > lagged.LAG_TOLERANCE:
+        log.warning(
+            "the skin models' lagged normal forces and areas still changed by %.2e after %d "
+            "solves (tolerance %.0e)", change, lags, lagged.LAG_TOLERANCE,
+        )  # fmt: skip
+    converged = ev.residual <= settings.tolerance and change <= lagged.LAG_TOLERANCE
     seconds = time.perf_counter() - start
     message = (
         f"{settings.method}: {'converged' if converged else 'NOT converged'} after {iterations} "
@@ -144,7 +191,17 @@ def relax(
     count = factorisations() - factorised
     peak = peak_memory()
     log.info("%d linear factorisations; peak memory %.0f MiB", count, peak / 2**20)
-    return Result(ev, history, converged, iterations, settings.method, solver, seconds, count, peak)
+    return Result(ev, history, converged, iterations, settings.method, solver, seconds, count,
+                  peak, lags, _friction_fields(problem, ev))  # fmt: skip
+
+
+def _friction_fields(problem: Problem, ev: Evaluation) -> dict[str, NDArray]:
+    """The friction force and the stick/slip state at ``ev`` (empty without friction)."""
+    if problem.friction is None or ev.friction is None:
+        return {}
+    state = np.where(problem.friction.normal_force > 0, 1, 0).astype(np.int8)
+    state[problem.friction.sliding(ev.x)] = 2
+    return {"force": ev.friction, "state": state}
 
 
 def reset_peak_memory() -> None:
