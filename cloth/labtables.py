@@ -186,6 +186,19 @@ def _clean_checks(table: LabTable, strain: NDArray, rows: NDArray[np.bool_]) -> 
         )
 
 
+def _set_strain(
+    table: LabTable, strain: NDArray, stress: NDArray, rows: NDArray[np.bool_]
+) -> float | None:
+    """The set of a cyclic table's direction (``rows``): the largest strain at zero force on the
+    unloading branch of its last cycle (None without unloading rows)."""
+    try:
+        unloading = _select(table, IngestOptions(branch="unload"), rows)
+    except InputError:
+        return None
+    zero = strain[unloading & (stress <= 0.0)]
+    return float(max(np.max(zero), 0.0)) if zero.size else 0.0
+
+
 def _curve_from_points(
     strain: NDArray, stress: NDArray, dense: bool, options: IngestOptions, source: Path
 ) -> tuple[StressStrainCurve, DirectionData]:
@@ -261,6 +274,7 @@ def ingest(
     curves: dict[str, StressStrainCurve] = {}
     data: dict[str, DirectionData] = {}
     thickness: float | None = None
+    set_strain: dict[str, float] = {}
     header: dict[str, str] = {}
     provenance: dict[str, str] = {"ingest_options": repr(options)}
     for index, (raw_path, direction) in enumerate(zip(paths, directions, strict=True)):
@@ -292,6 +306,10 @@ def ingest(
             curves[name], data[name] = _curve_from_points(
                 strain[rows], stress[rows], not exact, options, table.path
             )
+            if cyclic:
+                measured = _set_strain(table, strain, stress, dirs == name)
+                if measured is not None:
+                    set_strain[str(name)] = measured
             log.info(
                 "%s %s: %d points -> %d knots, fit error max %.4g Pa (%.3g %%), rms %.4g Pa",
                 table.path.name,
@@ -340,5 +358,6 @@ def ingest(
         thickness=thickness,
         areal_density=density * 1e-3 if density is not None else float("nan"),
         provenance=provenance,
+        set_strain=set_strain,
     )
     return Material(fabric, data)

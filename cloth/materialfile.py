@@ -60,6 +60,10 @@ def fabric_variables(fabric: Fabric) -> dict[str, xr.Variable]:
     variables: dict[str, xr.Variable] = {}
     for direction in fabric.directions:
         variables.update(curve_variables(direction, fabric.curve(direction)))
+    for direction, value in fabric.set_strain.items():
+        variables[f"{direction}_set_strain"] = _var(
+            (), value, "1", f"{direction} set strain of the last load/unload cycle"
+        )
     variables["thickness"] = _var((), fabric.thickness, "m", "fabric thickness")
     variables["areal_density"] = _var((), fabric.areal_density, "kg m-2", "fabric mass per area")
     return variables
@@ -84,6 +88,7 @@ def fabric_from_dataset(ds: xr.Dataset) -> Fabric:
         thickness=float(ds["thickness"]),
         areal_density=float(ds["areal_density"]),
         provenance={str(k): str(v) for k, v in provenance.items()},
+        set_strain={d: float(ds[f"{d}_set_strain"]) for d in DIRECTIONS if f"{d}_set_strain" in ds},
     )
 
 

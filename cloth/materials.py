@@ -212,6 +212,10 @@ class Fabric:
         (`cloth.grid.build_grid`).
     provenance : dict of str to str
         Where the numbers came from (files, sha256, fit settings).
+    set_strain : dict of str to float, 1
+        Set (residual) strain per direction measured in the lab table's load/unload cycles:
+        where the last cycle's unloading branch reaches zero force. Empty when not measured.
+        A worn garment's rest lengths grow by it (`cloth.worn`).
     """
 
     name: str
@@ -221,6 +225,7 @@ class Fabric:
     areal_density: float = float("nan")
     bias: StressStrainCurve | None = None
     provenance: dict[str, str] = field(default_factory=dict)
+    set_strain: dict[str, float] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         thickness = float(self.thickness)

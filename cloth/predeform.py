@@ -35,6 +35,7 @@ from cloth.errors import InputError
 from cloth.grid import FIXED, FREE, SLIDING, build_grid
 from cloth.materialfile import load_fabric
 from cloth.statefile import State, grid_fabric
+from cloth.worn import set_strains
 
 log = logging.getLogger(__name__)
 
@@ -165,6 +166,12 @@ def predeform(case: dict[str, Any], base_dir: str | Path = ".", source: str = "c
     span = (1.0 - garment["lengthwise_reduction"]) * (garment["top"] - garment["bottom"])
     moduli = {k: float(garment[k]) for k in ("shear_modulus", "bend_modulus") if k in garment}
     around = garment["around"]
+    worn = set_strains(garment, fabric, source)
+    if worn:  # the set lengthens the pattern in each direction (cloth.worn)
+        up = "warp" if around == "weft" else "weft"
+        circumference = circumference * (1.0 + worn[around])
+        span *= 1.0 + worn[up]
+        log.info("predeform: worn garment, set strain weft %.4g, warp %.4g", *worn.values())
     grid = build_grid(
         n, m, circumference, np.linspace(0.0, span, m), grid_fabric(fabric, around),
         closed=True, **moduli,
@@ -197,5 +204,9 @@ def predeform(case: dict[str, Any], base_dir: str | Path = ".", source: str = "c
         case=case,
         body=body_ref,
         moduli=moduli,
-        attrs={"offset": offset, "hull_girth": hull_girth.tolist()},
+        attrs={
+            "offset": offset,
+            "hull_girth": hull_girth.tolist(),
+            **{f"set_strain_{d}": s for d, s in worn.items()},
+        },
     )

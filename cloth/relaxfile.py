@@ -12,17 +12,20 @@ gauge node's index, -1 for none), ``solver_factorisations`` (linear systems fact
 run, coarse levels included), ``solver_continuation`` (0/1) and ``solver_coarsest`` (its
 coarsest level's node limit), ``solver_reuse`` (0/1: factorisations kept across Newton
 steps), and ``solver_peak_memory_mib`` (the process's peak resident
-memory at its end, MiB). ``solver_iterations`` and the history are the requested grid's.
+memory at its end, MiB); with tissue or friction ``solver_lags`` (solves with the skin models'
+lagged quantities, `cloth.solvers.lagged`) and the friction variables of `cloth.skinfile`.
+``solver_iterations`` and the history are the requested grid's.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 import xarray as xr
 from numpy.typing import NDArray
 
+from cloth.skinfile import friction_variables
 from cloth.solvers.common import History, Settings
 from cloth.solvers.problem import turning_gauge
 from cloth.statefile import State, state_dataset
@@ -72,6 +75,8 @@ class Relaxation:
     seconds: float = 0.0
     factorisations: int = 0
     peak_memory: float = 0.0
+    lags: int = 0
+    friction: dict = field(default_factory=dict)
 
     @classmethod
     def of(cls, result, settings: Settings) -> Relaxation:
@@ -79,7 +84,8 @@ class Relaxation:
         final = result.final
         return cls(final.x, final.on_body, result.history, settings, result.converged,
                    result.iterations, result.linear_solver, result.seconds,
-                   result.factorisations, result.peak_memory)  # fmt: skip
+                   result.factorisations, result.peak_memory, result.lags,
+                   result.friction)  # fmt: skip
 
     @classmethod
     def diverged(cls, error, state: State, settings: Settings) -> Relaxation:
@@ -117,6 +123,7 @@ def relaxed_dataset(
             "solver_coarsest": int(settings.coarsest),
             "solver_reuse": int(settings.reuse),
             "solver_peak_memory_mib": float(peak_memory) / 2**20,
+            **({"solver_lags": int(run.lags)} if run.lags else {}),
         },
     )
     ds = state_dataset(relaxed, stage, previous)
@@ -129,4 +136,5 @@ def relaxed_dataset(
         )
         for k, axis in enumerate("xyz")
     }
-    return ds.assign({**history_variables(history), **initial})
+    skin = friction_variables(state.grid, run.friction)
+    return ds.assign({**history_variables(history), **initial, **skin})

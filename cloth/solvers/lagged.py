@@ -5,7 +5,8 @@ fixed while it solves: the nodes' tributary areas (the tissue's stiffness k = E 
 normal forces and normals (friction's bound mu lambda and its tangent planes). `relax` solves
 with them frozen, takes them afresh from the solution (`relag`), and solves again, until the
 largest relative change is at most ``LAG_TOLERANCE`` (at most ``MAX_LAGS`` solves). Without
-either model there is nothing to lag and a relaxation is one solve, as before.
+either model there is nothing to lag and a relaxation is one solve, as before. The models a
+case asks for are built by `cloth.skin.skin_models`.
 """
 
 from __future__ import annotations
@@ -15,59 +16,16 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from cloth.errors import InputError
-from cloth.friction import SLIP_FRACTION, Friction
+from cloth.friction import Friction
 from cloth.pressure import node_area
-from cloth.tissue import Layer, tissue_from_case
 
 if TYPE_CHECKING:
     from cloth.solvers.problem import Evaluation, Problem
-    from cloth.statefile import State
 
 #: Outer iterations stop when no lagged quantity changes by more than this (relative).
 LAG_TOLERANCE = 1e-6
 #: At most this many solves with lagged quantities.
 MAX_LAGS = 30
-
-
-def friction_settings(case: dict, shortest_rest: float) -> tuple[float, float]:
-    """The case's friction coefficient (1) and slip length (m, default `SLIP_FRACTION` x the
-    shortest rest spring), checked (`InputError`)."""
-    block = case.get("contact") or {}
-    mu = block.get("friction", 0.0)
-    try:
-        mu = float(mu)
-    except (TypeError, ValueError):
-        mu = float("nan")
-    if not (np.isfinite(mu) and mu >= 0):
-        raise InputError(
-            f"friction must be a coefficient >= 0 (cotton on skin: 0.3-0.9), got "
-            f"{block.get('friction')!r}",
-            field="contact.friction",
-        )
-    eps = block.get("slip_length", SLIP_FRACTION * shortest_rest)
-    if not (np.isfinite(float(eps)) and float(eps) > 0):
-        raise InputError(
-            f"slip_length must be a positive length in m, got {eps!r}", field="contact.slip_length"
-        )
-    return mu, float(eps)
-
-
-def skin_models(state: State) -> tuple[Layer | None, Friction | None]:
-    """The tissue layer under each node and the friction the state's case asks for (None where
-    it asks for none), not yet lagged (`start` takes them at the first evaluation)."""
-    grid, x = state.grid, state.x
-    tissue = tissue_from_case(state.case)
-    layer = None
-    if tissue is not None:
-        thickness, modulus = tissue.layers(x[:, 2])
-        layer = Layer(thickness, modulus, node_area(x, grid))
-    mu, eps = friction_settings(state.case, float(grid.rest_length.min()))
-    friction = None
-    if mu > 0:
-        zeros = np.zeros(grid.n_nodes)
-        friction = Friction(mu, eps, x.copy(), zeros, np.zeros_like(x))
-    return layer, friction
 
 
 def _normal_forces(ev: Evaluation) -> np.ndarray:

@@ -12,6 +12,7 @@ from cloth.bodies import Body, MeshBody
 from cloth.friction import Friction
 from cloth.grid import FIXED, SLIDING, Grid
 from cloth.mechanics import SpringState, energy, spring_forces, spring_state
+from cloth.skin import skin_models
 from cloth.solvers.common import (
     CONTACT_TOLERANCE,
     body_push,
@@ -97,9 +98,7 @@ class Problem:
     @classmethod
     def of(cls, state: State, body: Body) -> Problem:
         """The problem of relaxing ``state`` on ``body``, with its turning gauge and the skin
-        models its case asks for (`cloth.solvers.lagged.skin_models`)."""
-        from cloth.solvers.lagged import skin_models
-
+        models its case asks for (`cloth.skin.skin_models`)."""
         tissue, friction = skin_models(state)
         gauge = turning_gauge(state.grid, state.constraint)
         return cls(state.grid, body, state.constraint, gauge, tissue, friction)

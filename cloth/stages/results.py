@@ -16,6 +16,7 @@ from cloth.grid import WEFT
 from cloth.landmarks import girth_extrema, landmarks
 from cloth.mechanics import spring_state
 from cloth.resultfile import result_dataset, summary_rows
+from cloth.skinfile import result_skin_variables
 from cloth.solvers.problem import Problem
 from cloth.statefile import read_state
 
@@ -28,7 +29,8 @@ def aggregate(relaxed_path: str | Path) -> tuple[xr.Dataset, list]:
     """
     state, ds = read_state(relaxed_path, "relaxed")
     body, ref = body_from_record(state.body, relaxed_path), state.body
-    ev = Problem.of(state, body).evaluate(state.x)
+    problem = Problem.of(state, body)
+    ev = problem.evaluate(state.x)
     fields = node_fields(
         state.grid, state.x, ev.springs, state.fabric.thickness, ev.forces, ev.unbalanced,
         ev.on_body, ev.normal, state.constraint,
@@ -54,6 +56,7 @@ def aggregate(relaxed_path: str | Path) -> tuple[xr.Dataset, list]:
             }
         )  # fmt: skip
     result = result.assign(lab_range_variables(state, ev.springs.strain))
+    result = result.assign(result_skin_variables(state.grid, ev, ds, problem.tissue))
     name = Path(relaxed_path).parent.name
     return result, summary_rows(result, name)
 

@@ -1,0 +1,59 @@
+"""The skin models a case asks for: the tissue layer under each node and the friction.
+
+`skin_models` builds them from a state's case (``body.tissue``, ``contact``), checked, before
+any is lagged (`cloth.solvers.lagged.start` takes them at the relaxation's first evaluation).
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from cloth.errors import InputError
+from cloth.friction import SLIP_FRACTION, Friction
+from cloth.pressure import node_area
+from cloth.tissue import Layer, tissue_from_case
+
+if TYPE_CHECKING:
+    from cloth.statefile import State
+
+
+def friction_settings(case: dict, shortest_rest: float) -> tuple[float, float]:
+    """The case's friction coefficient (1) and slip length (m, default `SLIP_FRACTION` x the
+    shortest rest spring), checked (`InputError`)."""
+    block = case.get("contact") or {}
+    mu = block.get("friction", 0.0)
+    try:
+        mu = float(mu)
+    except (TypeError, ValueError):
+        mu = float("nan")
+    if not (np.isfinite(mu) and mu >= 0):
+        raise InputError(
+            f"friction must be a coefficient >= 0 (cotton on skin: 0.3-0.9), got "
+            f"{block.get('friction')!r}",
+            field="contact.friction",
+        )
+    eps = block.get("slip_length", SLIP_FRACTION * shortest_rest)
+    if not (np.isfinite(float(eps)) and float(eps) > 0):
+        raise InputError(
+            f"slip_length must be a positive length in m, got {eps!r}", field="contact.slip_length"
+        )
+    return mu, float(eps)
+
+
+def skin_models(state: State) -> tuple[Layer | None, Friction | None]:
+    """The tissue layer under each node and the friction the state's case asks for (None where
+    it asks for none), not yet lagged (`start` takes them at the first evaluation)."""
+    grid, x = state.grid, state.x
+    tissue = tissue_from_case(state.case)
+    layer = None
+    if tissue is not None:
+        thickness, modulus = tissue.layers(x[:, 2])
+        layer = Layer(thickness, modulus, node_area(x, grid))
+    mu, eps = friction_settings(state.case, float(grid.rest_length.min()))
+    friction = None
+    if mu > 0:
+        zeros = np.zeros(grid.n_nodes)
+        friction = Friction(mu, eps, x.copy(), zeros, np.zeros_like(x))
+    return layer, friction
