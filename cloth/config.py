@@ -100,6 +100,7 @@ def validate_case(case: dict[str, Any], source: str | Path = "case") -> ValidCas
             source,
             "garment.grid",
         )
+    _check_skin(case, source)
     case.setdefault("solver", {})
     _fill_defaults(case_schema(), case)
     if kinds[0] == "mesh":
@@ -111,6 +112,21 @@ def validate_case(case: dict[str, Any], source: str | Path = "case") -> ValidCas
         for key in MESH_ONLY:
             body.pop(key, None)
     return ValidCase(case)
+
+
+def _check_skin(case: dict[str, Any], source: str | Path) -> None:
+    """The skin models' numbers (tissue layers and bands, friction, slip length), checked where
+    the case enters, so a bad one is refused before any stage writes a file."""
+    from cloth.skin import check_solver, friction_settings
+    from cloth.tissue import tissue_from_case
+
+    tissue_from_case(case, str(source))
+    solver = case.get("solver") or {}
+    check_solver(case, solver.get("method", "newton"), solver.get("continuation", False), source)
+    try:
+        friction_settings(case, 1.0)
+    except InputError as exc:
+        raise InputError(exc.detail, source, exc.field) from None
 
 
 def load_case(path: str | Path) -> ValidCase:

@@ -2,7 +2,8 @@
 confirmation cases, checked before any job runs. ``workflow/rules/common.smk`` keeps only the
 input functions that hand these to the rules.
 
-Names: a sweep case is ``{material}__{body}__r{reduction x 1000:03d}``; a configured case keeps
+Names: a sweep case is ``{material}__{body}__r{reduction x 1000:03d}`` plus its skin and wear
+variant's tag (`cloth.variants`: none for a rigid, frictionless, new one); a configured case keeps
 its key; a confirmation case is `cloth.sweep.confirm_name`. A case's material becomes its
 ingested file ``results/materials/{material}.nc``; a mesh body's smooth surface the pipeline's
 file ``results/bodies/{name}.surface.nc``.
@@ -20,6 +21,7 @@ from pathlib import Path
 from cloth.config import validate_case
 from cloth.errors import InputError
 from cloth.landmarks import TORSO_LANDMARKS
+from cloth.variants import Variant, sweep_variants
 
 
 def data_path(path: str, base: str | Path | None) -> str:
@@ -51,16 +53,17 @@ def reduction_tag(reduction: float) -> str:
     return f"r{round(1000 * reduction):03d}"
 
 
-def sweep_name(material: str, body: str, reduction: float) -> str:
+def sweep_name(material: str, body: str, reduction: float, variant: Variant | None = None) -> str:
     """The name of a sweep case."""
-    return f"{material}__{body}__{reduction_tag(reduction)}"
+    tag = variant.tag() if variant is not None else ""
+    return f"{material}__{body}__{reduction_tag(reduction)}{tag}"
 
 
 @dataclass
 class Plan:
     """The cases of a config: ``cases`` (name -> validated case block, sweep cases included),
     ``sweep`` (name -> block of the sweep's cases, before validation) and ``index`` (one entry
-    per sweep case: case, material, body, reduction)."""
+    per sweep case: case, material, body, reduction, and the variant keys the sweep varies)."""
 
     config: dict
     base: str | Path | None = None
@@ -89,19 +92,27 @@ class Plan:
         block["material"] = f"results/materials/{material}.nc"
         return validate_case(block, f"config: cases.{name}")
 
-    def sweep_block(self, material: str, body: str, reduction: float) -> dict:
-        """The block of the sweep's case of ``material``, ``body`` and ``reduction``."""
+    def sweep_block(
+        self, material: str, body: str, reduction: float, variant: Variant | None = None
+    ) -> dict:
+        """The block of the sweep's case of ``material``, ``body``, ``reduction`` and skin and
+        wear ``variant`` (default: rigid, frictionless, new)."""
         sweep = self.config["sweep"]
-        return {
+        block = {
             "material": material,
             "body": local_body(self.config["bodies"][body], body, self.base),
             "garment": {**sweep["garment"], "reduction": reduction},
             "solver": sweep.get("solver", {}),
         }
+        if variant is None:
+            return block
+        return variant.apply(block, sweep.get("tissue_thickness"))
 
     def design_case(self, row: dict) -> dict:
         """The confirmation case of a design answer (a row of design.csv)."""
-        return self.sweep_block(row["material"], row["body"], float(row["reduction"]))
+        return self.sweep_block(
+            row["material"], row["body"], float(row["reduction"]), Variant.of(row)
+        )
 
     def material_tables(self, material: str) -> list[str]:
         """The lab table(s) of a material, found (`data_path`)."""
@@ -125,14 +136,21 @@ def _expand_sweep(plan: Plan) -> None:
                     f"{name!r} is not defined ({', '.join(sorted(pool)) or 'none defined'})",
                     "config", key,
                 )  # fmt: skip
+    finite = [v for v in sweep.get("tissue_moduli", []) if v is not None and v != float("inf")]
+    if finite and "tissue_thickness" not in sweep:
+        raise InputError(
+            "tissue_moduli needs tissue_thickness (m), the layer's thickness",
+            "config", "sweep.tissue_thickness",
+        )  # fmt: skip
+    variants = sweep_variants(sweep)
     for material in sweep["materials"]:
         for body in sweep["bodies"]:
             for reduction in sweep["reductions"]:
-                name = sweep_name(material, body, reduction)
-                plan.sweep[name] = plan.sweep_block(material, body, reduction)
-                plan.index.append(
-                    {"case": name, "material": material, "body": body, "reduction": reduction}
-                )
+                for keys, variant in variants:
+                    name = sweep_name(material, body, reduction, variant)
+                    plan.sweep[name] = plan.sweep_block(material, body, reduction, variant)
+                    plan.index.append({"case": name, "material": material, "body": body,
+                                       "reduction": reduction, **keys})  # fmt: skip
 
 
 def check_targets(config: dict) -> None:

@@ -57,3 +57,22 @@ def skin_models(state: State) -> tuple[Layer | None, Friction | None]:
         zeros = np.zeros(grid.n_nodes)
         friction = Friction(mu, eps, x.copy(), zeros, np.zeros_like(x))
     return layer, friction
+
+
+def check_solver(case: dict, method: str, continuation: bool, source=None) -> None:
+    """Tissue and friction are solved by Newton only, and friction never from a coarse grid's
+    answer (it depends on the path: the relaxation from the wrap); else `InputError`."""
+    tissue = (case.get("body") or {}).get("tissue") is not None
+    friction = float((case.get("contact") or {}).get("friction", 0.0) or 0.0) != 0.0
+    if (tissue or friction) and method != "newton":
+        raise InputError(
+            f"tissue and friction are solved by method newton only, got {method}; "
+            "set solver.method: newton",
+            source, "solver.method",
+        )  # fmt: skip
+    if friction and continuation:
+        raise InputError(
+            "friction depends on the path from the wrapped state, which continuation replaces; "
+            "set solver.continuation: false",
+            source, "solver.continuation",
+        )  # fmt: skip

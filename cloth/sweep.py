@@ -1,7 +1,8 @@
 """Sweeps and the design answer: which pattern reduction gives the target pressure?
 
 `collect` stacks the landmark summaries of a sweep's results into one dataset with dims
-``material`` x ``body`` x ``reduction`` x ``landmark`` (pressure in Pa). `design` answers each
+``material`` x ``body`` x ``reduction`` (x ``tissue_modulus`` x ``friction`` x ``worn``, those
+the sweep varies: `cloth.variants`) x ``landmark`` (pressure in Pa). `design` answers each
 target (a girth line and a pressure) per material and body by linear interpolation of the mean
 pressure on that line against the reduction; the pipeline then confirms each answer with an
 extra relaxed case at the found reduction (`confirm`), reporting the confirmed pressure and its
@@ -12,6 +13,7 @@ from __future__ import annotations
 
 import csv
 import io as _io
+import itertools
 import json
 from pathlib import Path
 
@@ -22,16 +24,24 @@ from cloth.errors import InputError
 from cloth.io import atomic_output, global_attrs, read_netcdf
 from cloth.landmarks import LANDMARK_FIELDS
 from cloth.pressure import MMHG
+from cloth.variants import COORDINATES, KEYS, Variant, entry_keys
 
 FIELDS = {name: (units, long_name) for name, (_, units, long_name) in LANDMARK_FIELDS.items()}
 
 
+def _dims(index: list[dict]) -> tuple[str, ...]:
+    return ("material", "body", "reduction", *entry_keys(index))
+
+
 def collect(index: list[dict], root: str | Path = ".") -> xr.Dataset:
     """Stack ``results/cases/{case}/result.nc`` of every index entry (case, material, body,
-    reduction) into the sweep dataset."""
-    materials = sorted({e["material"] for e in index})
-    bodies = sorted({e["body"] for e in index})
-    reductions = sorted({float(e["reduction"]) for e in index})
+    reduction, and the variant keys the sweep varies: `cloth.variants`) into the sweep
+    dataset, a dimension per key and the ``landmark``."""
+    dims = _dims(index)
+    values = {
+        dim: sorted({e[dim] if dim in ("material", "body") else float(e[dim]) for e in index})
+        for dim in dims
+    }
     results = {}
     landmarks: list[str] = []
     for entry in index:
@@ -41,61 +51,84 @@ def collect(index: list[dict], root: str | Path = ".") -> xr.Dataset:
         for name in ds["landmark"].values.tolist():
             if name not in landmarks:
                 landmarks.append(name)
-    shape = (len(materials), len(bodies), len(reductions), len(landmarks))
+    shape = (*(len(values[dim]) for dim in dims), len(landmarks))
     data = {name: np.full(shape, np.nan) for name in FIELDS}
-    converged = np.zeros(shape[:3], dtype=np.int8)
+    converged = np.zeros(shape[:-1], dtype=np.int8)
     for entry in index:
         ds = results[entry["case"]]
-        i = (
-            materials.index(entry["material"]), bodies.index(entry["body"]),
-            reductions.index(float(entry["reduction"])),
-        )  # fmt: skip
+        i = tuple(
+            values[dim].index(entry[dim] if dim in ("material", "body") else float(entry[dim]))
+            for dim in dims
+        )
         converged[i] = int(ds.attrs.get("converged", 0))
         for k, name in enumerate(ds["landmark"].values.tolist()):
             for field in FIELDS:
                 data[field][(*i, landmarks.index(name))] = float(ds[field][k])
-    dims = ("material", "body", "reduction", "landmark")
+    all_dims = (*dims, "landmark")
     variables = {
-        field: xr.Variable(dims, values, {"units": FIELDS[field][0], "long_name": FIELDS[field][1]})
-        for field, values in data.items()
-    }
+        field: xr.Variable(all_dims, array, {"units": FIELDS[field][0],
+                                             "long_name": FIELDS[field][1]})
+        for field, array in data.items()
+    }  # fmt: skip
     flags = {"flag_values": np.array([0, 1], np.int8), "flag_meanings": "no yes"}
     variables["converged"] = xr.Variable(
-        dims[:3], converged, {"units": "1", "long_name": "relaxation converged", **flags}
+        dims, converged, {"units": "1", "long_name": "relaxation converged", **flags}
     )
     coords = {
-        "material": xr.Variable("material", materials, {"long_name": "fabric"}),
-        "body": xr.Variable("body", bodies, {"long_name": "body"}),
+        "material": xr.Variable("material", values["material"], {"long_name": "fabric"}),
+        "body": xr.Variable("body", values["body"], {"long_name": "body"}),
         "reduction": xr.Variable(
-            "reduction", np.asarray(reductions), {"units": "1", "long_name": "pattern reduction"}
+            "reduction", np.asarray(values["reduction"]),
+            {"units": "1", "long_name": "pattern reduction"},
         ),
         "landmark": xr.Variable("landmark", landmarks, {"long_name": "girth line"}),
-    }
+    }  # fmt: skip
+    for key in entry_keys(index):
+        array = np.asarray(values[key], np.int8 if key == "worn" else np.float64)
+        attrs = dict(COORDINATES[key])
+        if "flag_values" in attrs:
+            attrs["flag_values"] = np.asarray(attrs["flag_values"], np.int8)
+        coords[key] = xr.Variable(key, array, attrs)
     attrs = global_attrs("cloth sweep")
     attrs.update({"cloth_kind": "sweep", "cases": json.dumps(index, sort_keys=True)})
     return xr.Dataset(variables, coords=coords, attrs=attrs)
 
 
+def _combinations(ds: xr.Dataset, dims: tuple[str, ...]) -> list[dict]:
+    """Every combination of the coordinates of ``dims`` (a selection each)."""
+    return [
+        dict(zip(dims, combo, strict=True))
+        for combo in itertools.product(*(ds[dim].values.tolist() for dim in dims))
+    ]
+
+
+def variant_dims(ds: xr.Dataset) -> tuple[str, ...]:
+    """The variant dimensions of a sweep dataset (`cloth.variants.KEYS` it has)."""
+    return tuple(key for key in KEYS if key in ds.dims)
+
+
 def sweep_rows(ds: xr.Dataset) -> list[dict[str, object]]:
+    """One row per case and girth line; where the sweep has new and worn garments, one row
+    per new case with the worn pressure beside it (``pressure_mean_mmHg_worn``, and the change
+    in %)."""
     rows = []
-    for material in ds["material"].values.tolist():
-        for body in ds["body"].values.tolist():
-            for reduction in ds["reduction"].values.tolist():
-                for landmark in ds["landmark"].values.tolist():
-                    at = ds.sel(
-                        material=material, body=body, reduction=reduction, landmark=landmark
-                    )
-                    if not np.isfinite(float(at["pressure_mean"])):
-                        continue
-                    rows.append({
-                        "material": material, "body": body, "reduction": reduction,
-                        "landmark": landmark,
-                        "pressure_mean_Pa": float(at["pressure_mean"]),
-                        "pressure_mean_mmHg": float(at["pressure_mean"]) / MMHG,
-                        "pressure_max_mmHg": float(at["pressure_max"]) / MMHG,
-                        "tension_mean_N_per_m": float(at["tension_mean"]),
-                        "converged": int(at["converged"]),
-                    })  # fmt: skip
+    both = "worn" in ds.dims and ds.sizes["worn"] == 2
+    dims = tuple(d for d in ("material", "body", "reduction", *variant_dims(ds))
+                 if not (both and d == "worn"))  # fmt: skip
+    for where in _combinations(ds, (*dims, "landmark")):
+        at = ds.sel(where | ({"worn": 0} if both else {}))
+        if not np.isfinite(float(at["pressure_mean"])):
+            continue
+        row = {**where, "pressure_mean_Pa": float(at["pressure_mean"]),
+               "pressure_mean_mmHg": float(at["pressure_mean"]) / MMHG,
+               "pressure_max_mmHg": float(at["pressure_max"]) / MMHG,
+               "tension_mean_N_per_m": float(at["tension_mean"]),
+               "converged": int(at["converged"])}  # fmt: skip
+        if both:
+            worn = float(ds.sel(where | {"worn": 1})["pressure_mean"])
+            row["pressure_mean_mmHg_worn"] = worn / MMHG
+            row["worn_change_percent"] = 100 * (worn / float(at["pressure_mean"]) - 1)
+        rows.append(row)
     return rows
 
 
@@ -119,7 +152,8 @@ def target_pa(target: dict) -> float:
 
 
 def design(ds: xr.Dataset, targets: list[dict]) -> list[dict[str, object]]:
-    """The reduction reaching each target per material and body (linear interpolation)."""
+    """The reduction reaching each target per material, body and variant (linear
+    interpolation)."""
     rows = []
     reductions = ds["reduction"].values
     for target in targets:
@@ -132,32 +166,31 @@ def design(ds: xr.Dataset, targets: list[dict]) -> list[dict[str, object]]:
                 "targets",
             )
         goal = target_pa(target)
-        for material in ds["material"].values.tolist():
-            for body in ds["body"].values.tolist():
-                p = ds["pressure_mean"].sel(material=material, body=body, landmark=landmark).values
-                ok = np.isfinite(p)
-                row = {
-                    "material": material, "body": body, "landmark": landmark,
-                    "target_Pa": goal, "target_mmHg": goal / MMHG,
-                    "reduction": float("nan"), "status": "", "message": "",
-                }  # fmt: skip
-                if np.count_nonzero(ok) < 2:
-                    row.update(status="no_data", message="fewer than two swept reductions")
-                elif not (p[ok].min() <= goal <= p[ok].max()):
-                    row.update(
-                        status="out_of_range",
-                        message=(
-                            f"no reduction in {reductions[ok].min():.3g}-{reductions[ok].max():.3g}"
-                            f" reaches {goal / MMHG:.3g} mmHg at the {landmark}: the sweep gives "
-                            f"{p[ok].min() / MMHG:.3g}-{p[ok].max() / MMHG:.3g} mmHg; widen the "
-                            "reductions or choose another fabric"
-                        ),
-                    )
-                else:
-                    order = np.argsort(p[ok])
-                    reduction = float(np.interp(goal, p[ok][order], reductions[ok][order]))
-                    row.update(reduction=reduction, status="ok")
-                rows.append(row)
+        for where in _combinations(ds, ("material", "body", *variant_dims(ds))):
+            p = ds["pressure_mean"].sel(where | {"landmark": landmark}).values
+            ok = np.isfinite(p)
+            row = {
+                **where, "landmark": landmark,
+                "target_Pa": goal, "target_mmHg": goal / MMHG,
+                "reduction": float("nan"), "status": "", "message": "",
+            }  # fmt: skip
+            if np.count_nonzero(ok) < 2:
+                row.update(status="no_data", message="fewer than two swept reductions")
+            elif not (p[ok].min() <= goal <= p[ok].max()):
+                row.update(
+                    status="out_of_range",
+                    message=(
+                        f"no reduction in {reductions[ok].min():.3g}-{reductions[ok].max():.3g}"
+                        f" reaches {goal / MMHG:.3g} mmHg at the {landmark}: the sweep gives "
+                        f"{p[ok].min() / MMHG:.3g}-{p[ok].max() / MMHG:.3g} mmHg; widen the "
+                        "reductions or choose another fabric"
+                    ),
+                )
+            else:
+                order = np.argsort(p[ok])
+                reduction = float(np.interp(goal, p[ok][order], reductions[ok][order]))
+                row.update(reduction=reduction, status="ok")
+            rows.append(row)
     return rows
 
 
@@ -166,13 +199,21 @@ DESIGN_HEADER = [
 ]  # fmt: skip
 
 
+def design_header(rows: list[dict]) -> list[str]:
+    """`DESIGN_HEADER` with the variant keys the rows carry, after the body."""
+    keys = [key for key in KEYS if rows and key in rows[0]]
+    return [*DESIGN_HEADER[:2], *keys, *DESIGN_HEADER[2:]]
+
+
 def read_design(path: str | Path) -> list[dict[str, str]]:
     with open(path, newline="") as handle:
         return list(csv.DictReader(handle))
 
 
 def confirm_name(row: dict) -> str:
-    return f"design__{row['material']}__{row['body']}__{row['landmark']}"
+    """The confirmation case of a design row (with its variant's tag, `cloth.variants`)."""
+    tag = Variant.of(row).tag()
+    return f"design__{row['material']}__{row['body']}__{row['landmark']}{tag}"
 
 
 def confirm(design_rows: list[dict[str, str]], root: str | Path = ".") -> list[dict[str, object]]:
@@ -196,7 +237,9 @@ def confirm(design_rows: list[dict[str, str]], root: str | Path = ".") -> list[d
 
 
 def plot_design(ds: xr.Dataset, targets: list[dict], path: str | Path) -> Path:
-    """Landmark pressure against reduction per fabric and body, with the RAL class bands."""
+    """Landmark pressure against reduction per fabric and body, with the RAL class bands; a
+    sweep with variants draws each line at every key's first value and shades the spread that
+    each varied key causes (`cloth.variants`)."""
     from cloth.plots import plt, save_figure
     from cloth.pressure import RAL_CLASSES
 
@@ -211,12 +254,26 @@ def plot_design(ds: xr.Dataset, targets: list[dict], path: str | Path) -> Path:
             ax.text(
                 ds["reduction"].values.min(), (lo + hi) / 2, f" RAL {name}", fontsize=7, va="center"
             )
-        for material in ds["material"].values.tolist():
-            for body in ds["body"].values.tolist():
-                p = ds["pressure_mean"].sel(material=material, body=body, landmark=landmark)
-                ax.plot(
-                    100 * ds["reduction"].values, p.values / MMHG, "o-", label=f"{material}, {body}"
-                )
+        percent = 100 * ds["reduction"].values
+        variants = variant_dims(ds)
+        first = {dim: ds[dim].values[0] for dim in variants}  # the line: each key's first value
+        for where in _combinations(ds, ("material", "body")):
+            line = ds["pressure_mean"].sel(where | first | {"landmark": landmark}) / MMHG
+            label = ", ".join(
+                [str(v) for v in where.values()]
+                + [Variant.of({d: v for d, v in first.items()}).label()]
+            ).strip(", ")
+            (drawn,) = ax.plot(percent, line.values, "o-", label=label)
+            for hatch, dim in zip(("", "//", ".."), variants, strict=False):
+                if ds.sizes[dim] < 2:
+                    continue  # the spread each varied key causes, the others at their first
+                others = {d: v for d, v in first.items() if d != dim}
+                spread = ds["pressure_mean"].sel(where | others | {"landmark": landmark}) / MMHG
+                ax.fill_between(
+                    percent, spread.min(dim).values, spread.max(dim).values,
+                    color=drawn.get_color(), alpha=0.15, hatch=hatch,
+                    label=f"{label}: spread over {dim.replace('_', ' ')}",
+                )  # fmt: skip
         for target in targets:
             if target["landmark"] == landmark:
                 ax.axhline(target_pa(target) / MMHG, color="k", ls="--", lw=0.8, label="target")

@@ -12,7 +12,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from cloth.bodies import Body
-from cloth.errors import InputError
+from cloth.skin import check_solver
 from cloth.solvers import lagged
 from cloth.solvers.common import Diverged, History, Settings
 from cloth.solvers.continuation import start_from_coarse
@@ -89,26 +89,6 @@ def _phases(problem: Problem, settings: Settings, solver: str) -> list[tuple[Ste
     return phases
 
 
-def _check_skin_settings(state: State, settings: Settings) -> None:
-    """Tissue and friction are solved by Newton only, and friction not from a coarse grid's
-    answer (it depends on the path: the relaxation from the wrap)."""
-    case = state.case
-    tissue = (case.get("body") or {}).get("tissue") is not None
-    friction = float((case.get("contact") or {}).get("friction", 0.0) or 0.0) != 0.0
-    if (tissue or friction) and settings.method != "newton":
-        raise InputError(
-            f"tissue and friction are solved by method newton only, got {settings.method}; "
-            "set solver.method: newton",
-            field="solver.method",
-        )
-    if friction and settings.continuation:
-        raise InputError(
-            "friction depends on the path from the wrapped state, which continuation replaces; "
-            "set solver.continuation: false",
-            field="solver.continuation",
-        )
-
-
 def relax(
     state: State, body: Body, settings: Settings, callbacks: Sequence[Callback] = ()
 ) -> Result:
@@ -120,7 +100,7 @@ def relax(
     """
     start = time.perf_counter()
     factorised = factorisations()
-    _check_skin_settings(state, settings)
+    check_solver(state.case, settings.method, settings.continuation)
     if settings.continuation:
         state = start_from_coarse(state, body, settings, relax)
     problem = Problem.of(state, body)

@@ -26,13 +26,17 @@ def sweep_files(
     plot_design(ds, targets, plot)
     if body_plot:
         from cloth.onbody import plot_sweep_on_body
+        from cloth.variants import Variant
 
         several = len({entry["material"] for entry in index}) > 1
+
+        def label(e: dict) -> str:
+            parts = [e["material"], e["body"]] if several else [e["body"]]
+            return ", ".join(part for part in (*parts, Variant.of(e).label()) if part)
+
         cases = [
-            (
-                f"{e['material']}, {e['body']}" if several else e["body"], float(e["reduction"]),
-                read_netcdf(root / "results" / "cases" / e["case"] / "result.nc", "result"),
-            )
+            (label(e), float(e["reduction"]),
+             read_netcdf(root / "results" / "cases" / e["case"] / "result.nc", "result"))
             for e in index
         ]  # fmt: skip
         plot_sweep_on_body(cases, body_plot)
@@ -41,7 +45,7 @@ def sweep_files(
 def design_file(sweep: Path, targets: list[dict], output: Path) -> None:
     """sweep.nc -> design.csv: the reduction that meets each target, interpolated (logged)."""
     from cloth.io import read_netcdf
-    from cloth.sweep import DESIGN_HEADER, design, write_rows
+    from cloth.sweep import design, design_header, write_rows
 
     rows = design(read_netcdf(sweep, "sweep", ("pressure_mean",)), targets)
     for row in rows:
@@ -53,7 +57,7 @@ def design_file(sweep: Path, targets: list[dict], output: Path) -> None:
             )  # fmt: skip
         else:
             log.warning("%s on %s: %s", row["material"], row["body"], row["message"])
-    write_rows(rows, output, DESIGN_HEADER)
+    write_rows(rows, output, design_header(rows))
 
 
 def confirm_file(design: Path, root: Path, output: Path) -> None:

@@ -1,0 +1,118 @@
+"""Sweeps over tissue, friction and wear: names, blocks, sweep.nc dimensions, side by side."""
+
+from __future__ import annotations
+
+import copy
+import csv
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+import yaml
+
+from cloth.errors import InputError
+from cloth.plan import make_plan
+from cloth.stages.case import run_case
+from cloth.stages.sweep import design_file, sweep_files
+from cloth.variants import Variant, sweep_variants
+
+ROOT = Path(__file__).resolve().parents[1]
+CONFIG = yaml.safe_load((ROOT / "config/config.yaml").read_text())
+
+
+def test_a_sweep_over_variants_names_and_builds_every_case():
+    config = copy.deepcopy(CONFIG)
+    config["sweep"].update(tissue_moduli=[None, 20000], tissue_thickness=0.015,
+                           frictions=[0.0, 0.4], worn=[False, True])  # fmt: skip
+    plan = make_plan(config, ROOT)
+    assert len(plan.index) == 8 * 2 * 2 * 2
+    assert "powernet__torso_M__r150" in plan.cases  # the default variant keeps its name
+    name = "powernet__torso_M__r150__tissue20000__mu040__worn"
+    case = plan.cases[name]
+    assert case["body"]["tissue"] == {"thickness": 0.015, "modulus": 20000.0}
+    assert case["contact"]["friction"] == 0.4 and case["garment"]["worn"] is True
+    entry = next(e for e in plan.index if e["case"] == name)
+    assert entry["tissue_modulus"] == 20000 and entry["friction"] == 0.4 and entry["worn"] == 1
+    rigid = next(e for e in plan.index if e["case"] == "powernet__torso_M__r150")
+    assert rigid["tissue_modulus"] == math.inf and "tissue" not in plan.cases[rigid["case"]]["body"]
+    # a design row names its variant, and its confirmation case has it
+    row = {"material": "powernet", "body": "torso_M", "reduction": "0.17",
+           "tissue_modulus": "20000.0", "friction": "0.4", "worn": "1"}  # fmt: skip
+    assert plan.design_case(row)["contact"] == {"friction": 0.4}
+
+
+def test_swept_tissue_needs_its_thickness():
+    config = copy.deepcopy(CONFIG)
+    config["sweep"].update(tissue_moduli=[20000])
+    with pytest.raises(InputError) as error:
+        make_plan(config, ROOT)
+    assert error.value.field == "sweep.tissue_thickness"
+
+
+def test_variant_tags_and_labels():
+    assert Variant().tag() == "" and Variant().label() == ""
+    assert Variant(1e12, 0.25, True).tag() == "__tissue1e12__mu025__worn"
+    assert Variant.of({"tissue_modulus": "inf", "worn": "0"}) == Variant()
+    assert [v for _, v in sweep_variants({"worn": [False, True]})] == [
+        Variant(),
+        Variant(worn=True),
+    ]
+
+
+def test_sweep_nc_gains_a_dimension_per_varied_key_and_csv_sets_worn_beside_new(tmp_path):
+    block = {"material": "powernet", "body": {"cylinder": {"radius": 0.1, "top": 0.5}},
+             "garment": {"bottom": 0.1, "top": 0.4, "grid": [24, 4]},
+             "solver": {"tolerance": 1e-9}}  # fmt: skip
+    index = []
+    for reduction in (0.1, 0.2):
+        for friction in (0.0, 0.3):
+            for worn in (False, True):
+                variant = Variant(friction=friction, worn=worn)
+                case = variant.apply(
+                    {**block, "garment": {**block["garment"], "reduction": reduction,
+                                          "set_strain": {"weft": 0.05, "warp": 0.0}}}, None
+                )  # fmt: skip
+                name = f"c{reduction:g}{variant.tag()}"
+                path = tmp_path / f"{name}.yaml"
+                path.write_text(yaml.safe_dump(case))
+                run_case(path, tmp_path / "results" / "cases" / name, {}, stop_after="aggregate")
+                index.append(
+                    {
+                        "case": name,
+                        "material": "powernet",
+                        "body": "cylinder",
+                        "reduction": reduction,
+                        "friction": friction,
+                        "worn": int(worn),
+                    }
+                )
+    targets = [{"landmark": "middle", "pressure_mmHg": 18}]
+    out = tmp_path / "results"
+    sweep_files(index, targets, tmp_path, out / "sweep.nc", out / "sweep.csv", out / "design.png")
+    import xarray as xr
+
+    with xr.open_dataset(out / "sweep.nc") as ds:
+        assert ds["pressure_mean"].dims == (
+            "material",
+            "body",
+            "reduction",
+            "friction",
+            "worn",
+            "landmark",
+        )
+        assert ds["worn"].attrs["flag_meanings"] == "new worn"
+        p = ds["pressure_mean"].sel(landmark="middle", material="powernet", body="cylinder")
+        # on a cylinder friction carries nothing; worn costs pressure
+        np.testing.assert_allclose(p.sel(friction=0.3), p.sel(friction=0.0), rtol=1e-6)
+        assert np.all(p.sel(worn=1) < 0.95 * p.sel(worn=0))
+    with open(out / "sweep.csv", newline="") as handle:
+        rows = list(csv.DictReader(handle))
+    assert len(rows) == 2 * 2  # reductions x frictions; worn beside new
+    for row in rows:
+        change = float(row["pressure_mean_mmHg_worn"]) / float(row["pressure_mean_mmHg"]) - 1
+        assert abs(100 * change - float(row["worn_change_percent"])) < 1e-3
+    design_file(out / "sweep.nc", targets, out / "design.csv")
+    with open(out / "design.csv", newline="") as handle:
+        design = list(csv.DictReader(handle))
+    assert len(design) == 4 and {"friction", "worn"} <= set(design[0])
