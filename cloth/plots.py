@@ -277,7 +277,24 @@ def plot_result(
     ax.grid(alpha=0.3, which="both")
     paths.append(save_figure(fig, folder / "convergence.png"))
     paths.append(plot_material(ds, folder / "material.png"))
-    return paths
+    return paths + plot_skin(ds, folder)
+
+
+#: The skin models' maps, drawn where the result has them (not in `FIGURES`: optional).
+SKIN_FIGURES = {
+    "indentation": ("indentation.png", 1e3, "indentation of the soft tissue [mm]"),
+    "friction_force": ("friction.png", 1e3, "skin friction force on the node [mN]"),
+}
+
+
+def plot_skin(ds: xr.Dataset, folder: str | Path) -> list[Path]:
+    """The maps of the skin models a result has: the tissue's indentation (mm), the friction
+    force (mN); none for a rigid, frictionless body."""
+    return [
+        _flat_map(ds, name, Path(folder) / file, scale=scale, label=label)
+        for name, (file, scale, label) in SKIN_FIGURES.items()
+        if name in ds
+    ]
 
 
 def plot_body_field(
