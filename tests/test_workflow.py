@@ -100,15 +100,26 @@ def test_tiny_pipeline_end_to_end(tiny_run):
     page = (where / "results/cases/tiny/garment.html").read_text()
     assert '<meta name="cloth:nodes" content="192">' in page
     with xr.open_dataset(where / "results/sweep.nc") as sweep:
-        assert dict(sweep.sizes) == {"material": 1, "body": 1, "reduction": 2, "landmark": 2}
-        waist = sweep["pressure_mean"].sel(landmark="waist").values.ravel()
+        assert dict(sweep.sizes) == {
+            "material": 1, "body": 1, "reduction": 2, "worn": 2, "landmark": 2
+        }  # fmt: skip
+        waist = sweep["pressure_mean"].sel(landmark="waist", worn=0).values.ravel()
         assert waist[1] > waist[0] > 0  # a tighter pattern presses harder
+        worn = sweep["pressure_mean"].sel(landmark="waist", worn=1).values.ravel()
+        assert np.all(worn < waist)  # the set costs compression
+    rows = (where / "results/sweep.csv").read_text().splitlines()
+    assert len(rows) == 1 + 2 * 2 and "pressure_mean_mmHg_worn" in rows[0]  # worn beside new
     confirmed = (where / "results/design_confirmed.csv").read_text().splitlines()
-    header, row = confirmed[0].split(","), confirmed[1].split(",")
-    record = dict(zip(header, row, strict=True))
-    assert record["status"] == "ok" and 0.1 < float(record["reduction"]) < 0.2
-    # two swept reductions, linear interpolation of a convex curve: within 5 % of the target
-    assert abs(float(record["error_percent"])) < 5
+    assert len(confirmed) == 3  # the new and the worn garment's answers
+    header = confirmed[0].split(",")
+    records = [dict(zip(header, row.split(","), strict=True)) for row in confirmed[1:]]
+    assert {record["worn"] for record in records} == {"0", "1"}
+    for record in records:
+        assert record["status"] == "ok" and 0.1 < float(record["reduction"]) < 0.2
+        # two swept reductions, linear interpolation of a convex curve: within 5 % of the target
+        assert abs(float(record["error_percent"])) < 5
+    worn, new = sorted(records, key=lambda r: r["worn"], reverse=True)
+    assert float(worn["reduction"]) > float(new["reduction"])  # a worn garment must be cut tighter
     # 48 around, 30 rings (the landmarks among them), and the two caps: 48 x 29 x 2 + 2 x 48
     assert "faces: 2880" in (where / "results/bodies/small.txt").read_text()
     assert sorted(p.name for p in where.iterdir() if not p.name.startswith(".")) == [

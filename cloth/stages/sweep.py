@@ -46,17 +46,19 @@ def design_file(sweep: Path, targets: list[dict], output: Path) -> None:
     """sweep.nc -> design.csv: the reduction that meets each target, interpolated (logged)."""
     from cloth.io import read_netcdf
     from cloth.sweep import design, design_header, write_rows
+    from cloth.variants import Variant
 
     rows = design(read_netcdf(sweep, "sweep", ("pressure_mean",)), targets)
     for row in rows:
+        variant = Variant.of(row).label()
+        where = f"{row['material']} on {row['body']}" + (f" ({variant})" if variant else "")
         if row["status"] == "ok":
             log.info(
-                "%s on %s: %.4g mmHg at the %s needs a reduction of %.4g (to be confirmed)",
-                row["material"], row["body"], row["target_mmHg"], row["landmark"],
-                row["reduction"],
+                "%s: %.4g mmHg at the %s needs a reduction of %.4g (to be confirmed)",
+                where, row["target_mmHg"], row["landmark"], row["reduction"],
             )  # fmt: skip
         else:
-            log.warning("%s on %s: %s", row["material"], row["body"], row["message"])
+            log.warning("%s: %s", where, row["message"])
     write_rows(rows, output, design_header(rows))
 
 
