@@ -6,6 +6,14 @@ from __future__ import annotations
 from cloth.bodies import body_from_config
 from cloth.predeform import predeform
 
+#: The benchmarks' Newton variants: name -> (continuation, reuse).
+VARIANTS = {
+    "plain": (False, False),
+    "reuse": (False, True),
+    "continuation": (True, False),
+    "continuation+reuse": (True, True),
+}
+
 
 def torso_case(grid: str):
     """(n, m, the wrapped state, its body) of the torso case on ``grid`` (``"448x224"``)."""

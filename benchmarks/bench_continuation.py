@@ -24,18 +24,10 @@ from dataclasses import replace
 
 import numpy as np
 from _table import markdown_table, replace_section
-from _torso import torso_case
+from _torso import VARIANTS, torso_case
 
 from cloth.solvers import Settings, relax
 from cloth.solvers.relax import reset_peak_memory
-
-#: Variant -> (continuation, reuse).
-VARIANTS = {
-    "plain": (False, False),
-    "reuse": (False, True),
-    "continuation": (True, False),
-    "continuation+reuse": (True, True),
-}
 
 
 def main() -> None:
