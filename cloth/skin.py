@@ -6,17 +6,14 @@ any is lagged (`cloth.solvers.lagged.start` takes them at the relaxation's first
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
 import numpy as np
+from numpy.typing import NDArray
 
 from cloth.errors import InputError
 from cloth.friction import SLIP_FRACTION, Friction
+from cloth.grid import Grid
 from cloth.pressure import node_area
 from cloth.tissue import Layer, tissue_from_case
-
-if TYPE_CHECKING:
-    from cloth.statefile import State
 
 
 def friction_settings(case: dict, shortest_rest: float) -> tuple[float, float]:
@@ -42,16 +39,18 @@ def friction_settings(case: dict, shortest_rest: float) -> tuple[float, float]:
     return mu, float(eps)
 
 
-def skin_models(state: State) -> tuple[Layer | None, Friction | None]:
-    """The tissue layer under each node and the friction the state's case asks for (None where
-    it asks for none), not yet lagged (`start` takes them at the first evaluation)."""
-    grid, x = state.grid, state.x
-    tissue = tissue_from_case(state.case)
+def skin_models(
+    case: dict, grid: Grid, x: NDArray[np.float64]
+) -> tuple[Layer | None, Friction | None]:
+    """The tissue layer under each node and the friction ``case`` asks for, for a garment on
+    ``grid`` wrapped at ``x`` ((N, 3), m); None where it asks for none. Not yet lagged
+    (`cloth.solvers.lagged.start` takes them at the relaxation's first evaluation)."""
+    tissue = tissue_from_case(case)
     layer = None
     if tissue is not None:
         thickness, modulus = tissue.layers(x[:, 2])
         layer = Layer(thickness, modulus, node_area(x, grid))
-    mu, eps = friction_settings(state.case, float(grid.rest_length.min()))
+    mu, eps = friction_settings(case, float(grid.rest_length.min()))
     friction = None
     if mu > 0:
         zeros = np.zeros(grid.n_nodes)

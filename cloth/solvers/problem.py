@@ -99,7 +99,7 @@ class Problem:
     def of(cls, state: State, body: Body) -> Problem:
         """The problem of relaxing ``state`` on ``body``, with its turning gauge and the skin
         models its case asks for (`cloth.skin.skin_models`)."""
-        tissue, friction = skin_models(state)
+        tissue, friction = skin_models(state.case, state.grid, state.x)
         gauge = turning_gauge(state.grid, state.constraint)
         return cls(state.grid, body, state.constraint, gauge, tissue, friction)
 
