@@ -160,10 +160,12 @@ def carry_contact(
     """``target``'s positions ((N, 3), m) from the coarser equilibrium ``x`` on ``source``
     (interpolated, `keep_constraints`), with every node whose coarse neighbours were all held
     (``held``, (source N,)) put on the body (`Problem.project_out`: a sliding node along its
-    horizontal normal)."""
+    horizontal normal); with tissue, nothing is put on the skin."""
     from cloth.solvers.problem import Problem
 
     placed = keep_constraints(interpolate(x, source, target.grid), target)
+    if (target.case.get("body") or {}).get("tissue") is not None:
+        return placed  # the skin gives way: its nodes stay where the coarse answer sank them
     flags = interpolate(np.repeat(np.asarray(held, float)[:, None], 3, axis=1), source,
                         target.grid)[:, 0]  # fmt: skip
     hold = (flags > 1.0 - 1e-9) & (target.constraint != FIXED)

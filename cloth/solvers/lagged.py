@@ -16,7 +16,6 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from cloth.friction import Friction
 from cloth.pressure import node_area
 
 if TYPE_CHECKING:
@@ -35,15 +34,9 @@ def _normal_forces(ev: Evaluation) -> np.ndarray:
 def start(problem: Problem, ev: Evaluation) -> Problem:
     """The problem lagged at the relaxation's start ``ev``: friction measured from its
     positions, with its normal forces and normals; the tissue at its areas."""
-    if not problem.lagged:
-        return problem
-    friction = problem.friction
-    if friction is not None:
-        friction = Friction(friction.mu, friction.eps, ev.x.copy(), _normal_forces(ev), ev.normal)
-    tissue = problem.tissue
-    if tissue is not None:
-        tissue, _ = tissue.at_area(node_area(ev.x, problem.grid))
-    return replace(problem, tissue=tissue, friction=friction)
+    if problem.friction is not None:
+        problem = replace(problem, friction=replace(problem.friction, origin=ev.x.copy()))
+    return relag(problem, ev)[0]
 
 
 def relag(problem: Problem, ev: Evaluation) -> tuple[Problem, float]:

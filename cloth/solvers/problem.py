@@ -142,13 +142,12 @@ class Problem:
         distance, closest, normal = self.body.query(x)
         work = energy(x, self.grid, springs)
         loads, friction, indentation = forces, None, None
-        if self.tissue is not None:
-            indentation, push_force, stored = self.tissue.response(distance, normal)
-            loads, work = loads + push_force, work + stored
         if self.friction is not None:
             friction, dissipation = self.friction.response(x)
             loads, work = loads + friction, work + dissipation
         if self.tissue is not None:  # the layer is the body's only reaction: no rigid contact
+            indentation, push_force, stored = self.tissue.response(distance, normal)
+            loads, work = loads + push_force, work + stored
             push = self.tissue.stiffness * indentation
             on_body = indentation > 0.0
             projector, turn = self.basis(x, normal, np.zeros(len(x), bool))
