@@ -58,19 +58,19 @@ class Friction:
         change = float(np.max(np.abs(normal_force - self.normal_force), initial=0.0)) / scale
         return Friction(self.mu, self.eps, self.origin, normal_force, normal), change
 
-    def _slip(self, x: NDArray[np.float64]) -> tuple[NDArray, NDArray, NDArray]:
-        """Tangential displacement ((N, 3), m), its length ((N,), m) and direction ((N, 3))."""
+    def _slip(self, x: NDArray[np.float64]) -> tuple[NDArray, NDArray]:
+        """Length ((N,), m) and direction ((N, 3)) of the tangential displacement."""
         move = x - self.origin
         n = self.normal
         u = move - np.einsum("ij,ij->i", move, n)[:, None] * n
         y = np.linalg.norm(u, axis=1)
         with np.errstate(invalid="ignore", divide="ignore"):
             direction = np.where(y[:, None] > 0, u / y[:, None], 0.0)
-        return u, y, direction
+        return y, direction
 
     def response(self, x: NDArray[np.float64]) -> tuple[NDArray[np.float64], float]:
         """The friction force on every node ((N, 3), N) and the dissipation potential (J)."""
-        _, y, direction = self._slip(x)
+        y, direction = self._slip(x)
         s = y / self.eps
         stick = s < 1.0
         f1 = np.where(stick, 2.0 * s - s * s, 1.0)
@@ -80,13 +80,13 @@ class Friction:
 
     def sliding(self, x: NDArray[np.float64]) -> NDArray[np.bool_]:
         """Nodes pressed on the skin that have slid past the slip length ((N,))."""
-        _, y, _ = self._slip(x)
+        y, _ = self._slip(x)
         return (self.normal_force > 0) & (y >= self.eps)
 
     def hessian_blocks(self, x: NDArray[np.float64]) -> NDArray[np.float64]:
         """The potential's Hessian per node ((N, 3, 3), N m-1), positive semi-definite:
         mu lambda [f1'(y) d d^T + f1(y) / y (T - d d^T)], d the slip direction."""
-        _, y, d = self._slip(x)
+        y, d = self._slip(x)
         s = y / self.eps
         stick = s < 1.0
         along = np.where(stick, 2.0 / self.eps * (1.0 - s), 0.0)
