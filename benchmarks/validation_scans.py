@@ -7,13 +7,18 @@
 2. ``scan_smoothing``: one mesh (128 x 120) at several smoothing widths sigma: girth-line means,
    the peak pressure, and how far the garment enters the original mesh (the smoothed surface
    lies up to a few tenths of a millimetre inside or outside it).
+3. ``scan_profile`` (``--profile 32x30``, with ``--grid 384x192``): how sharply the smooth
+   torso's own row-mean pressure changes around each girth line, against one mesh's ring
+   spacing there: the range of the smooth torso's row means within half a ring spacing of the
+   line, beside the mesh's value on the line. A mesh cannot be expected to match the line
+   closer than that range: its rings sample the body no finer.
 
 Garment: power net, 15 % reduction, 0.80-1.25 m (every girth line inside it, none on an edge
 row), sliding edges, Newton to 1e-8 (at most 150 iterations). Run (several minutes; one
 relaxation per row):
 
     .venv/bin/python benchmarks/validation_scans.py [--grid 96x48] [--meshes 32x30 64x60 128x120]
-        [--smoothing 0.004 0.006 0.010]
+        [--smoothing 0.004 0.006 0.010] [--profile 32x30 [--grid 384x192]]
 """
 
 from __future__ import annotations
@@ -70,7 +75,10 @@ def run(body: dict, grid: tuple[int, int], mesh=None) -> dict:
         "marks": marks,
         "peak": float(fields.pressure.max()),
         "surface": state.body.get("surface", {}),
-    }
+        # (m,) mean height (m) and mean pressure (Pa) of every grid row
+        "rows": (ev.x[:, 2].reshape(grid[1], grid[0]).mean(axis=1),
+                 fields.pressure.reshape(grid[1], grid[0]).mean(axis=1)),
+    }  # fmt: skip
     if mesh is not None:  # how far the garment lies inside the original mesh
         out["enters"] = float(max(0.0, -mesh.query(ev.x)[0].min()))
     return out
@@ -92,12 +100,16 @@ def main() -> None:
     parser.add_argument("--grid", default="96x48")
     parser.add_argument("--meshes", nargs="*", default=["32x30", "64x60", "128x120"])
     parser.add_argument("--smoothing", nargs="*", type=float, default=[0.004, 0.006, 0.010])
+    parser.add_argument("--profile", help="only the scan_profile table, of this mesh (32x30)")
     args = parser.parse_args()
     grid = tuple(int(v) for v in args.grid.split("x"))
     folder = Path(tempfile.mkdtemp(prefix="cloth-scans-"))
     os.environ.setdefault("CLOTH_CACHE_DIR", str(folder / "cache"))
     chart = chart_size("M")
     reference = run({"torso": {"size": "M"}}, grid)
+    if args.profile:
+        profile_table(args.profile, grid, reference, folder)
+        return
     header = ["body", "refined", "sigma [mm]", "iterations", "residual",
               *(f"{n} [mmHg]" for n in LANDMARKS)]  # fmt: skip
     rows = [["smooth parametric torso", "-", "-", str(reference["iterations"]),
@@ -138,6 +150,45 @@ def main() -> None:
         ])  # fmt: skip
         print(rows[-1], flush=True)
     replace_section("scan_smoothing", markdown_table(header, rows), DOC)
+
+
+def profile_table(spec: str, grid: tuple[int, int], reference: dict, folder: Path) -> None:
+    """The ``scan_profile`` table (module docstring, 3.)."""
+    chart = chart_size("M")
+    around, rings = (int(v) for v in spec.split("x"))
+    vertices, faces = torso_mesh(chart, around, rings)
+    got = run({"mesh": str(write_obj(folder / f"torso_{spec}.obj", vertices, faces))}, grid)
+    ring_z = np.unique(np.round(vertices[:, 2], 9))
+    z, smooth = reference["rows"]
+    header = ["girth line", "mesh ring spacing [mm]", "smooth torso [mmHg]",
+              "smooth torso within half a ring spacing [%]", f"mesh {spec} [mmHg]",
+              f"mesh {spec}, within half a ring spacing [%]"]  # fmt: skip
+    rows = []
+    for name in LANDMARKS:
+        height = chart.height[name]
+        at = int(np.argmin(np.abs(ring_z - height)))
+        spacing = float(np.diff(ring_z[max(at - 1, 0) : at + 2]).mean())
+        band = np.abs(z - height) <= spacing / 2
+        line = reference["marks"][name]
+        mesh_z, mesh_p = got["rows"]
+        mesh_band = np.abs(mesh_z - height) <= spacing / 2
+        rows.append([
+            name, f"{spacing * 1e3:.1f}", f"{line / MMHG:.2f}", _spread(smooth[band], line),
+            f"{got['marks'][name] / MMHG:.2f} ({100 * (got['marks'][name] / line - 1):+.1f} %)",
+            _spread(mesh_p[mesh_band], line),
+        ])  # fmt: skip
+        print(rows[-1], flush=True)
+    surface = got["surface"]
+    note = (f"Garment grid {grid[0]} x {grid[1]}; the mesh {around} around x {rings} rings "
+            f"(refined {surface.get('refine_levels', 0)} times, sigma "
+            f"{surface['smoothing_m'] * 1e3:.3g} mm), {got['iterations']} iterations."
+            "\n\n")  # fmt: skip
+    replace_section("scan_profile", note + markdown_table(header, rows), DOC)
+
+
+def _spread(values: np.ndarray, line: float) -> str:
+    """The range of row means ``values`` (Pa) against the line's ``line`` (Pa), in %."""
+    return f"{100 * (values.min() / line - 1):+.1f} .. {100 * (values.max() / line - 1):+.1f}"
 
 
 if __name__ == "__main__":
