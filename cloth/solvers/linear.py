@@ -56,8 +56,9 @@ def choose(name: str) -> str:
 
 
 #: Reuse: GMRES iterations (each one solve with the kept factor) before refactorising, and the
-#: relative residual it must reach (tight: Newton's last steps stay quadratic).
-KRYLOV_LIMIT = 12
+#: relative residual it must reach (tight: Newton's last steps stay quadratic). A solve costs a
+#: 40th to a 60th of a factorisation at 100k nodes (issue 12), so up to 30 are worth trying.
+KRYLOV_LIMIT = 30
 KRYLOV_RTOL = 1e-12
 #: Inexact Newton: a reused solve need only reach FORCING x the relative residual (at most
 #: KRYLOV_LOOSEST); the forcing term shrinks with the residual, so the last steps stay quadratic.
@@ -70,36 +71,42 @@ class Reuse:
 
     A system of the same size is solved by GMRES (the Newton matrix may be indefinite, and the
     kept factor is another matrix's, so neither CG nor MINRES applies) preconditioned by the
-    kept factor; when GMRES needs more than `KRYLOV_LIMIT` iterations to reach `KRYLOV_RTOL`,
+    kept factor; when GMRES needs more than `KRYLOV_LIMIT` iterations to reach its tolerance,
     the matrix is factorised afresh and kept. A factor costs 40-60 solves at 100k nodes (issue
     12), so a Newton step that reuses one costs a few solves instead of a factorisation.
-    ``krylov`` lists the GMRES iterations of every reused solve (0 for a fresh factor)."""
+    ``krylov`` lists the GMRES iterations of every reused solve (0 for a fresh factor),
+    ``abandoned`` those of the attempts given up before a fresh factor."""
 
     def __init__(self) -> None:
         self.factor = None
         self.size = -1
         self.krylov: list[int] = []
+        self.abandoned: list[int] = []
         self.rtol = KRYLOV_RTOL
 
     def solve(self, matrix: sp.csr_matrix, rhs: NDArray[np.float64]) -> NDArray[np.float64]:
         from scipy.sparse.linalg import LinearOperator, gmres
 
         if self.factor is not None and matrix.shape[0] == self.size:
-            count = [0]
+            # right preconditioning, A M y = b, x = M y: GMRES minimises the true residual, the
+            # one the forcing term bounds (left-preconditioned, it minimised |M r|, which went
+            # below rtol with |r| still at 0.1-0.7 where the contact set had moved)
+            factor, count = self.factor, [0]
 
             def tick(_):
                 count[0] += 1
 
-            factor = self.factor
-            preconditioner = LinearOperator(matrix.shape, matvec=factor.solve)
+            operator = LinearOperator(matrix.shape, matvec=lambda y: matrix @ factor.solve(y))
             with np.errstate(all="ignore"):
-                x, info = gmres(
-                    matrix, rhs, M=preconditioner, rtol=self.rtol, atol=0.0,
-                    restart=KRYLOV_LIMIT, maxiter=1, callback=tick, callback_type="pr_norm",
+                y, info = gmres(
+                    operator, rhs, rtol=self.rtol, atol=0.0, restart=KRYLOV_LIMIT, maxiter=1,
+                    callback=tick, callback_type="pr_norm",
                 )  # fmt: skip
+            x = factor.solve(y) if info == 0 else y
             if info == 0 and np.all(np.isfinite(x)):
                 self.krylov.append(count[0])
                 return x
+            self.abandoned.append(count[0])
         self.factor = None  # let the old factor go before the new one is built (peak memory)
         self.factor = _factor(matrix)
         self.size = matrix.shape[0]
