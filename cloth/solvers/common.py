@@ -66,8 +66,9 @@ class Settings:
     coarsest : int
         With continuation: coarsen until at most this many nodes.
     reuse : bool
-        Keep SuperLU's factor for the next Newton systems, solved by GMRES preconditioned with
-        it (`cloth.solvers.linear.Reuse`); refactorise when GMRES needs too many iterations.
+        Keep the factor (SuperLU or CHOLMOD) for the next Newton systems, solved by GMRES
+        preconditioned with it (`cloth.solvers.linear.Reuse`); refactorise when GMRES needs
+        too many iterations.
     """
 
     method: str = "newton"

@@ -36,6 +36,8 @@ AUTO = ("pardiso", "superlu")
 #: Backends that solve symmetric indefinite systems (Newton then uses the exact Hessian).
 INDEFINITE = ("superlu", "pardiso")
 INSTALL = {"cholmod": "scikit-sparse", "pardiso": "pypardiso", "amg": "pyamg"}
+#: Backends whose factor `Reuse` keeps (cholmod also keeps its symbolic analysis).
+REUSABLE = ("superlu", "cholmod")
 
 
 def available(name: str) -> bool:
@@ -67,7 +69,8 @@ KRYLOV_LOOSEST = 1e-2
 
 
 class Reuse:
-    """A factorisation kept for the next Newton systems (``solver: {reuse: true}``; SuperLU).
+    """A factorisation kept for the next Newton systems (``solver: {reuse: true}``; SuperLU or
+    CHOLMOD, ``backend``).
 
     A system of the same size is solved by GMRES (the Newton matrix may be indefinite, and the
     kept factor is another matrix's, so neither CG nor MINRES applies) preconditioned by the
@@ -75,19 +78,25 @@ class Reuse:
     the matrix is factorised afresh and kept. A factor costs 40-60 solves at 100k nodes (issue
     12), so a Newton step that reuses one costs a few solves instead of a factorisation.
     ``krylov`` lists the GMRES iterations of every reused solve (0 for a fresh factor),
-    ``abandoned`` those of the attempts given up before a fresh factor."""
+    ``abandoned`` those of the attempts given up before a fresh factor. With ``gmres`` False
+    every system is factorised (CHOLMOD still keeps its symbolic analysis: the Newton matrix's
+    pattern is the grid's, so only the numbers are factorised again)."""
 
-    def __init__(self) -> None:
+    def __init__(self, backend: str = "superlu", gmres: bool = True) -> None:
+        self.backend = backend
+        self.gmres = gmres
         self.factor = None
         self.size = -1
         self.krylov: list[int] = []
         self.abandoned: list[int] = []
         self.rtol = KRYLOV_RTOL
+        self.analysis = None  # CHOLMOD's symbolic factor, and the pattern it is of
+        self.pattern: tuple[NDArray, NDArray] | None = None
 
     def solve(self, matrix: sp.csr_matrix, rhs: NDArray[np.float64]) -> NDArray[np.float64]:
         from scipy.sparse.linalg import LinearOperator, gmres
 
-        if self.factor is not None and matrix.shape[0] == self.size:
+        if self.gmres and self.factor is not None and matrix.shape[0] == self.size:
             # right preconditioning, A M y = b, x = M y: GMRES minimises the true residual, the
             # one the forcing term bounds (left-preconditioned, it minimised |M r|, which went
             # below rtol with |r| still at 0.1-0.7 where the contact set had moved)
@@ -108,17 +117,48 @@ class Reuse:
                 return x
             self.abandoned.append(count[0])
         self.factor = None  # let the old factor go before the new one is built (peak memory)
-        self.factor = _factor(matrix)
+        self.factor = self._cholmod(matrix) if self.backend == "cholmod" else _factor(matrix)
         self.size = matrix.shape[0]
         self.krylov.append(0)
         return self.factor.solve(rhs)
+
+    def _cholmod(self, matrix: sp.csr_matrix) -> _Cholesky:
+        """CHOLMOD's factor of ``matrix`` (counted), on the kept symbolic analysis when the
+        pattern is the analysed one's (raises CholmodNotPositiveDefiniteError where the matrix
+        is not positive definite)."""
+        from sksparse.cholmod import analyze
+
+        global _factorisations
+        _factorisations += 1
+        csc = matrix.tocsc()
+        csc.sort_indices()
+        same = self.pattern is not None and (
+            np.array_equal(self.pattern[0], csc.indptr)
+            and np.array_equal(self.pattern[1], csc.indices)
+        )
+        if not same:
+            self.analysis = None
+            self.analysis = analyze(csc)
+            self.pattern = (csc.indptr.copy(), csc.indices.copy())
+        self.analysis.cholesky_inplace(csc)
+        return _Cholesky(self.analysis)
+
+
+class _Cholesky:
+    """A CHOLMOD factor with SuperLU's ``solve``."""
+
+    def __init__(self, factor) -> None:
+        self.factor = factor
+
+    def solve(self, rhs: NDArray[np.float64]) -> NDArray[np.float64]:
+        return self.factor(rhs)
 
 
 def solve(
     matrix: sp.csr_matrix, rhs: NDArray[np.float64], name: str, reuse: Reuse | None = None
 ) -> NDArray[np.float64]:
     """Solve ``matrix @ x = rhs`` (symmetric) with solver ``name`` (already `choose`n), or with
-    ``reuse``'s kept SuperLU factor (`Reuse`).
+    ``reuse``'s kept factor (`Reuse`, SuperLU or CHOLMOD).
 
     An iterative or Cholesky backend can fail where the matrix is not positive definite (the
     curvature term of contact can make it indefinite far from equilibrium): that step is then
@@ -129,6 +169,8 @@ def solve(
     if name == "superlu":
         return _solve(matrix, rhs, name)
     try:
+        if reuse is not None and name in REUSABLE:
+            return reuse.solve(matrix, rhs)
         return _solve(matrix, rhs, name)
     except Exception as exc:  # CG non-convergence, CHOLMOD not-positive-definite, ...
         log.warning("linear solver %s failed (%s); this step uses superlu", name, exc)

@@ -51,7 +51,15 @@ from cloth.bodies import MeshBody
 from cloth.grid import FIXED, SLIDING
 from cloth.mechanics import stiffness
 from cloth.solvers.common import CONTACT_TOLERANCE
-from cloth.solvers.linear import FORCING, INDEFINITE, KRYLOV_LOOSEST, KRYLOV_RTOL, Reuse, solve
+from cloth.solvers.linear import (
+    FORCING,
+    INDEFINITE,
+    KRYLOV_LOOSEST,
+    KRYLOV_RTOL,
+    REUSABLE,
+    Reuse,
+    solve,
+)
 from cloth.solvers.problem import Evaluation, Problem
 from cloth.solvers.stepper import Step
 
@@ -187,7 +195,9 @@ class Newton:
 
     def __init__(self, solver: str, reuse: bool = False) -> None:
         self.solver = solver
-        self.reuse = Reuse() if reuse and solver == "superlu" else None
+        # CHOLMOD keeps its symbolic analysis between iterations even without reuse
+        keep = solver in REUSABLE and (reuse or solver == "cholmod")
+        self.reuse = Reuse(solver, gmres=reuse) if keep else None
 
     def step(self, problem: Problem, ev: Evaluation) -> Step:
         if self.reuse is not None:  # inexact Newton: a solve as exact as the residual asks
