@@ -344,3 +344,58 @@ def test_relax_hands_every_step_to_its_callbacks_in_phases():
     assert result.converged and [s[0] for s in seen] == list(range(1, result.iterations + 1))
     assert [s[1] for s in seen[:4]] == ["explicit"] * 4 and seen[4][1] == "newton"
     assert all(code == method for _, _, code, method in seen)
+
+
+def test_at_a_saddle_newton_follows_the_unstable_mode():
+    """Near an equilibrium, an exact step refused with negative curvature marks a saddle: the
+    step then solves the exact matrix shifted past its negative eigenvalue (by twice the
+    curvature along the refused step) and points along the unstable mode more than the
+    projected Hessian's step does (at 204,800 nodes on the torso that one crawled along such a
+    mode, docs/performance.md). Far from an equilibrium the projected Hessian still comes
+    first."""
+    from dataclasses import replace
+
+    import scipy.sparse as sp
+
+    from cloth.solvers.newton import SADDLE_RESIDUAL, newton_matrix
+
+    body = {"elliptic_cylinder": {"a": 0.15, "b": 0.10, "bottom": 0.0, "top": 0.5}}
+    state = tube(body, 0.2, n=32, m=4)
+    problem = Problem.of(state, body_from_config(body)[0])
+    ev = solve(state, tolerance=1e-6).final
+    assert ev.residual < SADDLE_RESIDUAL
+    stiff = stiffness_at(problem, ev)
+    held = ev.on_body
+    projector, _ = problem.basis(ev.x, ev.normal, held)
+    blocks = sp.block_diag(list(projector), format="csr")
+    exact = newton_matrix(problem, ev, held, projector, stiff(False)).toarray()
+    values, vectors = np.linalg.eigh(exact)
+    lowest = np.flatnonzero(values > 1.5)[0]  # constrained directions are 1 (+ regularisation)
+    mode = vectors[:, lowest]
+    soften = 1.1 * values[lowest] * blocks  # the softest free mode's curvature becomes negative
+
+    def softened(project: bool):
+        return stiff(project) if project else stiff(project) - soften
+
+    # a load with as much along the mode as the residual has in all
+    free = np.einsum("nij,nj->ni", projector, ev.loads).ravel()
+    loads = ev.loads + np.linalg.norm(free) * mode.reshape(-1, 3)
+    rhs = np.einsum("nij,nj->ni", projector, loads).ravel()
+    saddle = newton_matrix(problem, ev, held, projector, softened(False))
+    refused = np.linalg.solve(saddle.toarray(), rhs)
+    assert rhs @ refused < 0  # the exact step is refused
+    curvature = refused @ (saddle @ refused) / (refused @ refused)
+    assert curvature < 0
+    along = {}
+    for name, residual in (("near", ev.residual), ("far", 10 * SADDLE_RESIDUAL)):
+        at = replace(ev, residual=residual, loads=loads)
+        dx, slope = _direction(problem, at, held, projector, softened, "superlu", (False, True))
+        assert slope > 0
+        along[name] = abs(mode @ dx.ravel()) / np.linalg.norm(dx)
+        if name == "near":
+            shifted = saddle + (-2.0 * curvature) * sp.identity(saddle.shape[0])
+            np.testing.assert_allclose(shifted @ dx.ravel(), rhs, atol=1e-9 * np.abs(rhs).max())
+        else:
+            projected = newton_matrix(problem, ev, held, projector, stiff(True))
+            np.testing.assert_allclose(projected @ dx.ravel(), rhs, atol=1e-9 * np.abs(rhs).max())
+    assert along["near"] > along["far"]
