@@ -12,20 +12,21 @@ Each iteration solves, in the directions every node may move (the projector P of
   softening costs quadratic convergence where the warp bunches up: torso S at 25 % reduction,
   48 x 24, oscillated between residuals 2e-4 and 4e-4 for 400 iterations with the projected K
   and converges in 6 with the exact one;
-* contact: an active set. A node on or inside the body whose spring force pushes into it is
-  held, and so is one within ``GAP`` (1 % of the shortest rest length) pushed hard enough to stay
-  pushed once on it (`held_nodes`): its normal direction is removed
-  from P (the Baraff-Witkin constraint filter I - n n^T) and its step gets the linearised
-  constraint correction -d n that puts it on the surface (so nodes do not hover and chatter in
-  and out of the set); a node the springs pull away from the body is released, unless its
-  Newton move then goes into the body (`entering`: it stays held and the move is redone, at most
-  ``KEEP_PASSES`` times). The reaction is lambda_i >= 0 (`cloth.solvers.common.body_push`:
-  -R_i . n_i, or from the horizontal balance alone at a sliding edge node, whose support carries
-  the vertical force) and H_i the Hessian of the body's signed distance (its curvature)
-  at the contact point: the term -lambda H makes the step exact for sliding on a curved body, so
-  convergence is quadratic (closed-form bodies, the smooth torso). On a mesh every active face
-  plane is a constraint (`_mesh_step`: a node on an edge pushed by both faces slides along the
-  edge), linearised exactly, so the iteration is exact once the active set settles;
+* contact: an active set (`cloth.solvers.activeset`). A node on or inside the body whose
+  spring force pushes into it is held, and so is one within ``GAP`` (1 % of the shortest rest
+  length) pushed hard enough to stay pushed once on it (`held_nodes`): its normal direction is
+  removed from P (the Baraff-Witkin constraint filter I - n n^T) and its step gets the
+  linearised constraint correction -d n that puts it on the surface (so nodes do not hover and
+  chatter in and out of the set); a node the springs pull away from the body is released,
+  unless its Newton move then goes into the body (`entering`: it stays held and the move is
+  redone, at most ``KEEP_PASSES`` times). The reaction is lambda_i >= 0
+  (`cloth.solvers.common.body_push`: -R_i . n_i, or from the horizontal balance alone at a
+  sliding edge node, whose support carries the vertical force) and H_i the Hessian of the
+  body's signed distance (its curvature) at the contact point: the term -lambda H makes the
+  step exact for sliding on a curved body, so convergence is quadratic (closed-form bodies,
+  the smooth torso). On a mesh every active face plane is a constraint (`_mesh_step`: a node
+  on an edge pushed by both faces slides along the edge), linearised exactly, so the
+  iteration is exact once the active set settles;
 * mu = 1e-10 x the largest diagonal entry regularises slack fabric and rigid motions (a tube
   may turn freely around an axisymmetric body), where K is singular;
 * I - P keeps the constrained directions at zero.
@@ -40,7 +41,6 @@ in rounding, a step is also accepted when it lowers the residual.
 from __future__ import annotations
 
 import functools
-from collections.abc import Callable
 
 import numpy as np
 import scipy.sparse as sp
@@ -50,7 +50,7 @@ from cloth import contact
 from cloth.bodies import MeshBody
 from cloth.grid import FIXED, SLIDING
 from cloth.mechanics import stiffness
-from cloth.solvers.common import CONTACT_TOLERANCE
+from cloth.solvers.activeset import Stiffness, entering, held_nodes
 from cloth.solvers.linear import (
     FORCING,
     INDEFINITE,
@@ -63,13 +63,9 @@ from cloth.solvers.linear import (
 from cloth.solvers.problem import Evaluation, Problem
 from cloth.solvers.stepper import Step
 
-#: ``k(project)``: the stiffness at one state, exact (False) or PSD-projected (True).
-Stiffness = Callable[[bool], sp.csr_matrix]
-
 ARMIJO = 1e-4
 MAX_HALVINGS = 30
 REGULARISATION = 1e-10
-GAP = 0.01
 #: Direction passes: a released node whose step enters the body is held, and the step redone.
 KEEP_PASSES = 4
 #: Levenberg-Marquardt shifts, x the largest diagonal entry: the first, the growth, the last.
@@ -86,49 +82,6 @@ def _block_diagonal(blocks: NDArray[np.float64]) -> sp.csr_matrix:
     indptr = np.arange(0, 9 * count + 1, 3)
     cols = (3 * np.arange(count)[:, None, None] + np.arange(3)[None, None, :]).repeat(3, axis=1)
     return sp.csr_matrix((blocks.ravel(), cols.ravel(), indptr), shape=(3 * count, 3 * count))
-
-
-def held_nodes(problem: Problem, ev: Evaluation, k: Stiffness) -> NDArray[np.bool_]:
-    """Nodes the body holds this iteration: pushed into it and on it (or inside), or within
-    the gap and pushed hard enough to stay pushed once on it.
-
-    A node hovering at distance d above the body with an inward push f = -R . n is held (and
-    put on the surface by the step's correction) only if f >= k_n d, k_n = n^T K_ii n its
-    normal stiffness: otherwise the springs would pull it back off once there. A node where
-    the fabric bridges a hollow (the cleavage) otherwise hovers with a near-zero push, is put
-    down, pulled off, and costs an iteration each time (measured on the smooth torso).
-    ``k(True)`` is the projected stiffness, assembled only if some node hovers. With tissue the
-    skin gives way and holds no node (the layer's force is in the loads).
-    """
-    if problem.tissue is not None:
-        return np.zeros(problem.grid.n_nodes, bool)
-    gap = GAP * float(problem.grid.rest_length.min())
-    push = ev.push
-    held = (ev.distance <= CONTACT_TOLERANCE) & (push > 0.0)
-    hovering = np.flatnonzero((ev.distance > CONTACT_TOLERANCE) & (ev.distance <= gap) & (push > 0))
-    if hovering.size:
-        projected = k(True)
-        normal = ev.normal[hovering]
-        k_n = np.zeros(hovering.size)
-        for a in range(3):  # n^T K_ii n from the entries of each node's diagonal block
-            for b in range(3):
-                entry = np.asarray(projected[3 * hovering + a, 3 * hovering + b]).ravel()
-                k_n += normal[:, a] * entry * normal[:, b]
-        held[hovering] = push[hovering] >= k_n * ev.distance[hovering]
-    return held
-
-
-def entering(
-    problem: Problem, ev: Evaluation, held: NDArray[np.bool_], dx: NDArray[np.float64]
-) -> NDArray[np.bool_]:
-    """Nodes on the body that the active set releases (not ``held``) but whose Newton move
-    ``dx`` ((N, 3), m) goes into the body: released, they would be stepped inside and projected
-    back, and the line search would halve the step every iteration; they stay held."""
-    if problem.tissue is not None:
-        return np.zeros(problem.grid.n_nodes, bool)
-    touching = (ev.distance <= CONTACT_TOLERANCE) & (problem.constraint != FIXED)
-    inward = np.einsum("ij,ij->i", dx, ev.normal) < -CONTACT_TOLERANCE
-    return touching & ~held & inward
 
 
 def stiffness_at(problem: Problem, ev: Evaluation) -> Stiffness:
