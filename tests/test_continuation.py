@@ -87,7 +87,7 @@ def test_reusing_factorisations_reaches_the_same_equilibrium(
 ):
     """Newton with SuperLU's factor kept and GMRES on the next systems (``reuse``): the same
     positions within 1e-9 m at 1e-10, the last steps quadratic, and on the torso fewer
-    factorisations (96 x 48: measured 18 plain, 12 reusing) with some systems solved by a kept
+    factorisations (96 x 48: measured 18 plain, 8 reusing) with some systems solved by a kept
     factor. The ellipse converges in 4 steps, each too far from the last for its factor."""
     from cloth.solvers import newton
 
