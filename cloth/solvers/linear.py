@@ -164,10 +164,10 @@ def solve(
     curvature term of contact can make it indefinite far from equilibrium): that step is then
     solved by SuperLU, with a warning.
     """
-    if name == "superlu" and reuse is not None:
-        return reuse.solve(matrix, rhs)
+    if reuse is None and name == "cholmod":  # one factorisation, through the same code
+        reuse = Reuse("cholmod", gmres=False)
     if name == "superlu":
-        return _solve(matrix, rhs, name)
+        return _solve(matrix, rhs, name) if reuse is None else reuse.solve(matrix, rhs)
     try:
         if reuse is not None and name in REUSABLE:
             return reuse.solve(matrix, rhs)
@@ -205,10 +205,6 @@ def _solve(matrix: sp.csr_matrix, rhs: NDArray[np.float64], name: str) -> NDArra
     if name == "superlu":
         return _factor(matrix).solve(rhs)
     _factorisations += 1
-    if name == "cholmod":
-        from sksparse.cholmod import cholesky
-
-        return cholesky(matrix.tocsc())(rhs)
     if name == "pardiso":
         import pypardiso
 

@@ -220,7 +220,7 @@ def _direction(
     free = np.einsum("nij,nj->ni", projector, ev.loads)
     rhs = free.ravel()
     curvature = 0.0  # the most negative curvature seen along a refused step, N/m
-    matrix = None
+    matrix = shifted = None
     for project in tries:
         matrix = newton_matrix(problem, ev, held, projector, k(project))
         dx, slope = _solve_step(matrix, rhs, projector, solver, reuse)
@@ -230,13 +230,13 @@ def _direction(
             step = dx.ravel()
             curvature = min(curvature, float(step @ (matrix @ step)) / float(step @ step))
         if not project and curvature < 0 and ev.residual < SADDLE_RESIDUAL:
-            found = _shifted(matrix, rhs, projector, solver, reuse, curvature)
+            found, shifted = _shifted(matrix, rhs, projector, solver, reuse, curvature), matrix
             if found is not None:
                 return found
     # a direction of negative curvature (the body's curvature term outweighs the fabric's
     # stiffness along it): shift the matrix until the move is a descent direction
     # (Levenberg-Marquardt); the line search then moves down that direction
-    if matrix is not None:
+    if matrix is not None and matrix is not shifted:  # not the saddle's shifts again
         found = _shifted(matrix, rhs, projector, solver, reuse, curvature)
         if found is not None:
             return found
