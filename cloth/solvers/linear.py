@@ -40,6 +40,9 @@ INDEFINITE = ("superlu", "pardiso")
 INSTALL = {"cholmod": "scikit-sparse", "pardiso": "pypardiso", "amg": "pyamg"}
 #: Backends whose factor `Reuse` keeps (cholmod also keeps its symbolic analysis).
 REUSABLE = ("superlu", "cholmod")
+#: Backends that take the exact Hessian through GMRES preconditioned by their (Cholesky) factor
+#: of the PSD-projected one (`Reuse.solve`'s ``factorise``).
+PRECONDITIONED = ("cholmod",)
 
 
 def available(name: str) -> bool:
@@ -68,6 +71,9 @@ KRYLOV_RTOL = 1e-12
 #: KRYLOV_LOOSEST); the forcing term shrinks with the residual, so the last steps stay quadratic.
 FORCING = 0.1
 KRYLOV_LOOSEST = 1e-2
+#: The first shift (x the largest diagonal entry) that makes an indefinite projected matrix a
+#: Cholesky preconditioner (`Reuse._preconditioner`).
+PRECONDITIONER_SHIFT = 1e-8
 
 
 class Reuse:
@@ -79,10 +85,10 @@ class Reuse:
     kept factor; when GMRES needs more than `KRYLOV_LIMIT` iterations to reach its tolerance,
     the matrix is factorised afresh and kept. A factor costs 40-60 solves at 100k nodes (issue
     12), so a Newton step that reuses one costs a few solves instead of a factorisation.
-    ``krylov`` lists the GMRES iterations of every reused solve (0 for a fresh factor),
-    ``abandoned`` those of the attempts given up before a fresh factor. With ``gmres`` False
-    every system is factorised (CHOLMOD still keeps its symbolic analysis: the Newton matrix's
-    pattern is the grid's, so only the numbers are factorised again)."""
+    ``krylov`` lists the GMRES iterations of every solve (0 for a direct solve with a fresh
+    factor of the matrix itself), ``abandoned`` those of the attempts given up. With ``gmres``
+    False every system is factorised (CHOLMOD still keeps its symbolic analysis: the Newton
+    matrix's pattern is the grid's, so only the numbers are factorised again)."""
 
     def __init__(self, backend: str = "superlu", gmres: bool = True) -> None:
         self.backend = backend
@@ -91,38 +97,90 @@ class Reuse:
         self.size = -1
         self.krylov: list[int] = []
         self.abandoned: list[int] = []
+        self.fallbacks = 0  # systems SuperLU solved where GMRES on ``factorise``'s factor failed
         self.rtol = KRYLOV_RTOL
         self.analysis = None  # CHOLMOD's symbolic factor, and the pattern it is of
         self.pattern: tuple[NDArray, NDArray] | None = None
 
-    def solve(self, matrix: sp.csr_matrix, rhs: NDArray[np.float64]) -> NDArray[np.float64]:
-        from scipy.sparse.linalg import LinearOperator, gmres
-
+    def solve(
+        self,
+        matrix: sp.csr_matrix,
+        rhs: NDArray[np.float64],
+        factorise: sp.csr_matrix | None = None,
+    ) -> NDArray[np.float64]:
+        """``matrix^-1 rhs``: by GMRES on the kept factor where it serves, else from a fresh
+        factor. ``factorise``: the matrix to factorise instead (CHOLMOD: the PSD-projected
+        Newton matrix, positive definite where ``matrix``, the exact one, need not be);
+        ``matrix`` is then solved by GMRES preconditioned by that factor, and where GMRES
+        fails there too, by SuperLU (``fallbacks`` counts those)."""
         if self.gmres and self.factor is not None and matrix.shape[0] == self.size:
-            # right preconditioning, A M y = b, x = M y: GMRES minimises the true residual, the
-            # one the forcing term bounds (left-preconditioned, it minimised |M r|, which went
-            # below rtol with |r| still at 0.1-0.7 where the contact set had moved)
-            factor, count = self.factor, [0]
-
-            def tick(_):
-                count[0] += 1
-
-            operator = LinearOperator(matrix.shape, matvec=lambda y: matrix @ factor.solve(y))
-            with np.errstate(all="ignore"):
-                y, info = gmres(
-                    operator, rhs, rtol=self.rtol, atol=0.0, restart=KRYLOV_LIMIT, maxiter=1,
-                    callback=tick, callback_type="pr_norm",
-                )  # fmt: skip
-            x = factor.solve(y) if info == 0 else y
-            if info == 0 and np.all(np.isfinite(x)):
-                self.krylov.append(count[0])
+            x = self._krylov(matrix, rhs)
+            if x is not None:
                 return x
-            self.abandoned.append(count[0])
         self.factor = None  # let the old factor go before the new one is built (peak memory)
-        self.factor = self._cholmod(matrix) if self.backend == "cholmod" else _factor(matrix)
+        if factorise is None:
+            self.factor = self._cholmod(matrix) if self.backend == "cholmod" else _factor(matrix)
+        else:
+            self.factor = self._preconditioner(factorise)
         self.size = matrix.shape[0]
+        if factorise is not None:
+            x = self._krylov(matrix, rhs)
+            if x is not None:
+                return x
+            # the exact matrix is too far from the projected one (measured on the torso at
+            # 100k nodes, near the equilibrium: 30 iterations left |r| / |b| at 0.9): SuperLU
+            # factorises the exact one, and its factor is kept for the next systems
+            self.fallbacks += 1
+            log.debug("GMRES on the Cholesky preconditioner gave up; SuperLU factorises")
+            self.factor = None
+            self.factor = _factor(matrix)
         self.krylov.append(0)
         return self.factor.solve(rhs)
+
+    def _krylov(self, matrix: sp.csr_matrix, rhs: NDArray[np.float64]) -> NDArray | None:
+        """GMRES on ``matrix`` preconditioned by the kept factor, to ``rtol`` within
+        `KRYLOV_LIMIT` iterations (recorded in ``krylov``), or None (in ``abandoned``)."""
+        from scipy.sparse.linalg import LinearOperator, gmres
+
+        # right preconditioning, A M y = b, x = M y: GMRES minimises the true residual, the
+        # one the forcing term bounds (left-preconditioned, it minimised |M r|, which went
+        # below rtol with |r| still at 0.1-0.7 where the contact set had moved)
+        factor, count = self.factor, [0]
+
+        def tick(_):
+            count[0] += 1
+
+        operator = LinearOperator(matrix.shape, matvec=lambda y: matrix @ factor.solve(y))
+        with np.errstate(all="ignore"):
+            y, info = gmres(
+                operator, rhs, rtol=self.rtol, atol=0.0, restart=KRYLOV_LIMIT, maxiter=1,
+                callback=tick, callback_type="pr_norm",
+            )  # fmt: skip
+        x = factor.solve(y) if info == 0 else y
+        if info == 0 and np.all(np.isfinite(x)):
+            self.krylov.append(count[0])
+            return x
+        self.abandoned.append(count[0])
+        return None
+
+    def _preconditioner(self, matrix: sp.csr_matrix):
+        """A factor of ``matrix`` (the projected Newton matrix), or of ``matrix`` + s I where
+        the contact curvature term leaves it indefinite (a preconditioner need only be near):
+        s from `PRECONDITIONER_SHIFT` x its largest diagonal entry, 100-fold up to 1e-2."""
+        if self.backend != "cholmod":
+            return _factor(matrix)
+        from sksparse.cholmod import CholmodNotPositiveDefiniteError
+
+        scale = float(np.abs(matrix.diagonal()).max() or 1.0)
+        shift = 0.0
+        while True:
+            try:
+                shifted = matrix if shift == 0.0 else matrix + shift * sp.identity(matrix.shape[0])
+                return self._cholmod(sp.csr_matrix(shifted))
+            except CholmodNotPositiveDefiniteError:
+                shift = PRECONDITIONER_SHIFT * scale if shift == 0.0 else 100.0 * shift
+                if shift > 1e-2 * scale:
+                    raise
 
     def _cholmod(self, matrix: sp.csr_matrix) -> _Cholesky:
         """CHOLMOD's factor of ``matrix`` (counted), on the kept symbolic analysis when the
@@ -157,10 +215,15 @@ class _Cholesky:
 
 
 def solve(
-    matrix: sp.csr_matrix, rhs: NDArray[np.float64], name: str, reuse: Reuse | None = None
+    matrix: sp.csr_matrix,
+    rhs: NDArray[np.float64],
+    name: str,
+    reuse: Reuse | None = None,
+    factorise: sp.csr_matrix | None = None,
 ) -> NDArray[np.float64]:
     """Solve ``matrix @ x = rhs`` (symmetric) with solver ``name`` (already `choose`n), or with
-    ``reuse``'s kept factor (`Reuse`, SuperLU or CHOLMOD).
+    ``reuse``'s kept factor (`Reuse`, SuperLU or CHOLMOD); ``factorise``: the positive definite
+    matrix a `PRECONDITIONED` backend factorises instead (`Reuse.solve`).
 
     An iterative or Cholesky backend can fail where the matrix is not positive definite (the
     curvature term of contact can make it indefinite far from equilibrium): that step is then
@@ -172,7 +235,7 @@ def solve(
         return _solve(matrix, rhs, name) if reuse is None else reuse.solve(matrix, rhs)
     try:
         if reuse is not None and name in REUSABLE:
-            return reuse.solve(matrix, rhs)
+            return reuse.solve(matrix, rhs, factorise)
         return _solve(matrix, rhs, name)
     except Exception as exc:  # CG non-convergence, CHOLMOD not-positive-definite, ...
         log.warning("linear solver %s failed (%s); this step uses superlu", name, exc)

@@ -6,8 +6,10 @@ Each iteration solves, in the directions every node may move (the projector P of
     (P (K - sum_i lambda_i H_i) P + (I - P) + mu I) dx = P R
 
 * K: the exact stiffness (the Hessian of the energy) when the linear solver takes indefinite
-  systems (`cloth.solvers.linear.INDEFINITE`) and the step it gives is a descent direction;
-  otherwise each spring's Hessian projected to positive semi-definite. Compressed springs make
+  systems (`cloth.solvers.linear.INDEFINITE`), or takes them by GMRES preconditioned by its
+  Cholesky factor of the projected matrix (`cloth.solvers.linear.PRECONDITIONED`), and the
+  step it gives is a descent direction; otherwise each spring's Hessian projected to positive
+  semi-definite. Compressed springs make
   the exact K indefinite (a compressed spring softens the fabric across it). Dropping that
   softening costs quadratic convergence where the warp bunches up: torso S at 25 % reduction,
   48 x 24, oscillated between residuals 2e-4 and 4e-4 for 400 iterations with the projected K
@@ -56,6 +58,7 @@ from cloth.solvers.linear import (
     INDEFINITE,
     KRYLOV_LOOSEST,
     KRYLOV_RTOL,
+    PRECONDITIONED,
     REUSABLE,
     Reuse,
     solve,
@@ -126,11 +129,13 @@ def newton_matrix(
     held: NDArray[np.bool_],
     projector_blocks: NDArray,
     k: sp.csr_matrix,
+    curvature: bool = True,
 ) -> sp.csr_matrix:
     """The constrained, curvature-corrected, regularised Newton matrix at ``ev`` from the
-    stiffness ``k`` ((3N, 3N), N/m)."""
+    stiffness ``k`` ((3N, 3N), N/m); without the contact curvature term -lambda H where not
+    ``curvature`` (then positive definite for a PSD ``k``: a Cholesky preconditioner)."""
     hessian = getattr(problem.body, "hessian", None)
-    if hessian is not None and np.any(held):
+    if curvature and hessian is not None and np.any(held):
         held = np.flatnonzero(held)
         reaction = ev.push[held]
         blocks = np.zeros((problem.grid.n_nodes, 3, 3))
@@ -171,8 +176,9 @@ def newton_step(
     if isinstance(problem.body, MeshBody) and np.any(held):
         return _mesh_step(problem, ev, held, k, solver, reuse)
     # the exact Hessian first (compressed springs soften the fabric across them) where the
-    # backend takes indefinite matrices, then the projected one
-    tries = (False, True) if solver in INDEFINITE else (True,)
+    # backend takes it (indefinite, or through its factor of the projected one), then the
+    # projected one
+    tries = (False, True) if solver in INDEFINITE + PRECONDITIONED else (True,)
     for _ in range(KEEP_PASSES):
         projector, _ = problem.basis(ev.x, ev.normal, held)
         dx, slope = _direction(problem, ev, held, projector, k, solver, tries, reuse)
@@ -221,23 +227,27 @@ def _direction(
     rhs = free.ravel()
     curvature = 0.0  # the most negative curvature seen along a refused step, N/m
     matrix = shifted = None
+    factorise = None  # what a PRECONDITIONED backend factorises for the exact matrix
     for project in tries:
         matrix = newton_matrix(problem, ev, held, projector, k(project))
-        dx, slope = _solve_step(matrix, rhs, projector, solver, reuse)
+        if not project and solver in PRECONDITIONED:  # positive definite
+            factorise = newton_matrix(problem, ev, held, projector, k(True), curvature=False)
+        dx, slope = _solve_step(matrix, rhs, projector, solver, reuse, factorise)
         if slope > 0:
             return dx, slope
         if np.all(np.isfinite(dx)) and np.any(dx):
             step = dx.ravel()
             curvature = min(curvature, float(step @ (matrix @ step)) / float(step @ step))
         if not project and curvature < 0 and ev.residual < SADDLE_RESIDUAL:
-            found, shifted = _shifted(matrix, rhs, projector, solver, reuse, curvature), matrix
+            found = _shifted(matrix, rhs, projector, solver, reuse, curvature, factorise)
+            shifted = matrix
             if found is not None:
                 return found
     # a direction of negative curvature (the body's curvature term outweighs the fabric's
     # stiffness along it): shift the matrix until the move is a descent direction
     # (Levenberg-Marquardt); the line search then moves down that direction
     if matrix is not None and matrix is not shifted:  # not the saddle's shifts again
-        found = _shifted(matrix, rhs, projector, solver, reuse, curvature)
+        found = _shifted(matrix, rhs, projector, solver, reuse, curvature, factorise)
         if found is not None:
             return found
     # a scaled gradient step, kept in the allowed directions
@@ -253,16 +263,19 @@ def _shifted(
     solver: str,
     reuse: Reuse | None,
     curvature: float,
+    factorise: sp.csr_matrix | None = None,
 ) -> tuple[NDArray[np.float64], float] | None:
     """The move with ``matrix`` shifted by s I (Levenberg-Marquardt) and its slope, the first
     that descends: s from twice the most negative ``curvature`` (N/m) met along a refused move,
     growing ``SHIFT_GROWTH``-fold up to ``SHIFT_LIMIT`` x its largest diagonal entry; None if
-    none does."""
+    none does. ``factorise`` (the projected matrix, for a `PRECONDITIONED` backend) is shifted
+    alike."""
     scale = float(np.abs(matrix.diagonal()).max() or 1.0)
     shift = max(-2.0 * curvature, SHIFT_START * scale)
     identity = sp.identity(matrix.shape[0], format="csr")
     while shift <= SHIFT_LIMIT * scale:
-        dx, slope = _solve_step(matrix + shift * identity, rhs, projector, solver, reuse)
+        moved = None if factorise is None else factorise + shift * identity
+        dx, slope = _solve_step(matrix + shift * identity, rhs, projector, solver, reuse, moved)
         if slope > 0:
             return dx, slope
         shift *= SHIFT_GROWTH
@@ -275,11 +288,12 @@ def _solve_step(
     projector: NDArray[np.float64],
     solver: str,
     reuse: Reuse | None = None,
+    factorise: sp.csr_matrix | None = None,
 ) -> tuple[NDArray[np.float64], float]:
     """The move ``matrix^-1 rhs`` in the allowed directions ((N, 3), m) and its slope (J); the
-    slope is NaN where the matrix is singular."""
+    slope is NaN where the matrix is singular. ``factorise``: `cloth.solvers.linear.solve`'s."""
     try:
-        dx = solve(matrix, rhs, solver, reuse).reshape(-1, 3)
+        dx = solve(matrix, rhs, solver, reuse, factorise).reshape(-1, 3)
     except RuntimeError:  # SuperLU: "factor is exactly singular"
         return np.zeros((len(rhs) // 3, 3)), float("nan")
     dx = np.einsum("nij,nj->ni", projector, dx)
