@@ -168,6 +168,8 @@ def test_bad_settings_are_refused():
         {"linear_solver": "mumps"},
         {"tolerance": 0.0},
         {"tolerance": -1e-8},
+        {"blas_threads": 0},
+        {"blas_threads": 1.5},
     ):
         with pytest.raises(InputError):
             Settings(**bad)
@@ -344,6 +346,29 @@ def test_relax_hands_every_step_to_its_callbacks_in_phases():
     assert result.converged and [s[0] for s in seen] == list(range(1, result.iterations + 1))
     assert [s[1] for s in seen[:4]] == ["explicit"] * 4 and seen[4][1] == "newton"
     assert all(code == method for _, _, code, method in seen)
+
+
+@pytest.mark.parametrize("limit", [1, None])
+def test_relax_limits_the_blas_threads_while_it_runs(limit):
+    """``blas_threads`` caps every loaded BLAS library's threads during the run (numpy's and a
+    backend's OpenBLAS spin-wait against each other on 2 cores) and lifts the cap after; None
+    leaves the libraries alone."""
+    from threadpoolctl import threadpool_info
+
+    def counts() -> list[int]:
+        return [lib["num_threads"] for lib in threadpool_info() if lib["user_api"] == "blas"]
+
+    before = counts()
+    assert before  # numpy's and scipy's OpenBLAS at least
+    state = tube({"cylinder": {"radius": 0.1, "bottom": 0.0, "top": 0.5}}, 0.2, n=24, m=3)
+    body, _ = body_from_config(state.case["body"])
+    during = []
+    settings = Settings(tolerance=1e-10, progress=False, blas_threads=limit)
+    relax(state, body, settings, callbacks=[lambda *_: during.append(counts())])
+    assert during and all(
+        seen == ([1] * len(seen) if limit == 1 else before[: len(seen)]) for seen in during
+    )
+    assert counts() == before
 
 
 def test_at_a_saddle_newton_follows_the_unstable_mode():

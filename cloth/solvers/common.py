@@ -69,6 +69,10 @@ class Settings:
         Keep the factor (SuperLU or CHOLMOD) for the next Newton systems, solved by GMRES
         preconditioned with it (`cloth.solvers.linear.Reuse`); refactorise when GMRES needs
         too many iterations.
+    blas_threads : int or None
+        Threads each BLAS library may use while relaxing (None: the libraries' own choice).
+        1 by default: numpy's OpenBLAS and CHOLMOD's spin-wait against each other and against
+        the solver's own work (docs/solvers.md: cholmod 0.68 of the time on 2 cores).
     """
 
     method: str = "newton"
@@ -81,6 +85,7 @@ class Settings:
     continuation: bool = False
     coarsest: int = 5000
     reuse: bool = False
+    blas_threads: int | None = 1
 
     def __post_init__(self) -> None:
         if self.method not in METHODS:
@@ -97,6 +102,13 @@ class Settings:
         if not (np.isfinite(self.tolerance) and self.tolerance > 0):
             raise InputError(
                 f"tolerance must be a positive number, got {self.tolerance}", field="tolerance"
+            )
+        if self.blas_threads is not None and not (
+            isinstance(self.blas_threads, int) and self.blas_threads >= 1
+        ):
+            raise InputError(
+                f"blas_threads must be a whole number >= 1 or null, got {self.blas_threads!r}",
+                field="blas_threads",
             )
         if self.max_iterations < 1:
             raise InputError(

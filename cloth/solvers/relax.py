@@ -17,7 +17,7 @@ from cloth.solvers import lagged
 from cloth.solvers.common import Diverged, History, Settings
 from cloth.solvers.continuation import start_from_coarse
 from cloth.solvers.explicit import MAX_STEP, Explicit, shortest_rest
-from cloth.solvers.linear import choose, factorisations
+from cloth.solvers.linear import blas_threads, choose, factorisations
 from cloth.solvers.newton import Newton
 from cloth.solvers.problem import Evaluation, Problem
 from cloth.solvers.stepper import Callback, LogLine, ProgressBar, Step, Stepper
@@ -98,13 +98,20 @@ def relax(
 
     Raises `Diverged` (with the last finite positions and the history) on NaN or energy growth.
     """
+    solver = choose(settings.linear_solver) if settings.method != "explicit" else "none"
+    with blas_threads(settings.blas_threads, solver):
+        return _relax(state, body, settings, solver, callbacks)
+
+
+def _relax(
+    state: State, body: Body, settings: Settings, solver: str, callbacks: Sequence[Callback]
+) -> Result:
     start = time.perf_counter()
     factorised = factorisations()
     check_solver(state.case, settings.method, settings.continuation)
     if settings.continuation:
         state = start_from_coarse(state, body, settings, relax)
     problem = Problem.of(state, body)
-    solver = choose(settings.linear_solver) if settings.method != "explicit" else "none"
     history = History()
     ev = problem.evaluate(problem.project_out(state.x))
     if problem.lagged:
