@@ -4,9 +4,13 @@ The parametric torso M written as its 128 x 120 triangle mesh and read back as a
 (a scan stand-in we can ship), power net at 15 % reduction between the hip and bust lines,
 sliding edges, Newton with SuperLU to 1e-8: ``surface: smooth`` (the default; the time includes
 fitting the surface, which is then cached) against ``surface: mesh`` (the facets, capped at
-``--mesh-iterations``). One run each; writes docs/performance.md (section ``relax_scan``). Run:
+``--mesh-iterations``). With ``--variants plain continuation+reuse`` the smooth surface is
+also relaxed with coarse-to-fine continuation and factor reuse (issue 12's headline on a meshed
+body); ``--surfaces`` picks the surfaces. One run each; writes docs/performance.md (section
+``--section``, default ``relax_scan``). Run:
 
     .venv/bin/python benchmarks/bench_scan.py [--grids 96x48 384x192] [--mesh-iterations 40]
+        [--surfaces smooth mesh] [--variants plain] [--section relax_scan] [--no-write]
 """
 
 from __future__ import annotations
@@ -19,6 +23,7 @@ import time
 from pathlib import Path
 
 from _table import markdown_table, replace_section
+from _torso import VARIANTS
 from bench_relax import seconds_to
 from validation_scans import write_obj
 
@@ -33,6 +38,10 @@ def main() -> None:
     parser.add_argument("--grids", nargs="*", default=["96x48", "384x192"])
     parser.add_argument("--mesh-iterations", type=int, default=40)
     parser.add_argument("--no-write", action="store_true")
+    parser.add_argument("--surfaces", nargs="+", default=["smooth", "mesh"],
+                        choices=["smooth", "mesh"])  # fmt: skip
+    parser.add_argument("--variants", nargs="+", default=["plain"], choices=list(VARIANTS))
+    parser.add_argument("--section", default="relax_scan")
     args = parser.parse_args()
     folder = Path(tempfile.mkdtemp(prefix="cloth-scan-"))
     os.environ["CLOTH_CACHE_DIR"] = str(folder / "cache")  # the first fit is timed
@@ -40,7 +49,10 @@ def main() -> None:
     rows = []
     for grid in args.grids:
         n, m = (int(v) for v in grid.split("x"))
-        for surface, iterations in (("smooth", 150), ("mesh", args.mesh_iterations)):
+        runs = [("smooth", 150, v) for v in args.variants if "smooth" in args.surfaces]
+        runs += [("mesh", args.mesh_iterations, "plain")] if "mesh" in args.surfaces else []
+        for surface, iterations, variant in runs:
+            continued, reuse = VARIANTS[variant]
             case = {
                 "material": "powernet",
                 "body": {"mesh": str(path), "surface": surface},
@@ -53,17 +65,25 @@ def main() -> None:
             prepared = time.perf_counter() - start
             settings = Settings(
                 tolerance=1e-8, max_iterations=iterations, linear_solver="superlu",
-                progress=False, log_every=0,
+                progress=False, log_every=0, continuation=continued, reuse=reuse,
             )  # fmt: skip
             result = relax(state, body, settings)
+            # with continuation the history is the fine grid's, after the coarse levels
+            reached = (
+                seconds_to(result, 1e-8)
+                if variant == "plain"
+                else (f"{result.seconds:.2f}" if result.converged else f"> {result.seconds:.0f}")
+            )
             rows.append([
-                f"{n} x {m}", f"{n * m:,}", surface, f"{prepared:.1f}",
+                f"{n} x {m}", f"{n * m:,}", surface, variant, f"{prepared:.1f}",
                 str(result.iterations) + ("" if result.converged else " (cap)"),
-                seconds_to(result, 1e-6), seconds_to(result, 1e-8),
+                str(result.factorisations),
+                seconds_to(result, 1e-6) if variant == "plain" else "", reached,
             ])  # fmt: skip
             print(rows[-1], flush=True)
-    header = ["grid", "nodes", "surface", "predeform (+ fit) [s]", "iterations",
-              "relax to 1e-6 [s]", "relax to 1e-8 [s]"]  # fmt: skip
+    header = ["grid", "nodes", "surface", "variant", "predeform (+ fit) [s]",
+              "(fine) iterations", "factorisations", "relax to 1e-6 [s]",
+              "relax to 1e-8 [s]"]  # fmt: skip
     body = (
         f"One run each on {platform.machine()}, {os.cpu_count()} cores, Newton with SuperLU; "
         f"the faceted runs capped at {args.mesh_iterations} iterations.\n\n"
@@ -71,7 +91,7 @@ def main() -> None:
     )
     print(body)
     if not args.no_write:
-        replace_section("relax_scan", body)
+        replace_section(args.section, body)
 
 
 if __name__ == "__main__":

@@ -5,7 +5,8 @@ Rows are the parts issue 12 names, each the cumulative time of the functions tha
 part that calls another includes it, so the column does not sum to 100 %): the Newton step as a
 whole; evaluations (spring state, forces, contact); the contact queries wherever called (in
 evaluations and in projections onto the body); assembly
-(the stiffness and the Newton matrix); factorisation (SuperLU); solves with a factor (direct,
+(the stiffness and the Newton matrix); factorisation (SuperLU), and within it the
+nested-dissection ordering (computed once per grid); solves with a factor (direct,
 and inside GMRES); GMRES itself; the line search (its trial evaluations included). Run:
 
     .venv/bin/python benchmarks/profile_relax.py [--grid 448x224] [--no-write]
@@ -31,6 +32,7 @@ PARTS = {
     "stiffness (springs' Hessian blocks)": [("cloth/mechanics.py", "stiffness")],
     "the Newton matrix (projection, contact)": [("solvers/newton.py", "newton_matrix")],
     "factorisation (SuperLU)": [("solvers/linear.py", "_factor")],
+    "of which the ordering (once per grid)": [("solvers/ordering.py", "dof_permutation")],
     "solves with a factor": [("~", "<method 'solve' of 'SuperLU' objects>")],
     "GMRES (reuse)": [("_isolve/iterative.py", "gmres")],
     "line search (its evaluations included)": [("solvers/newton.py", "_line_search")],

@@ -72,7 +72,7 @@ class Settings:
     blas_threads : int or None
         Threads each BLAS library may use while relaxing (None: the libraries' own choice).
         1 by default: numpy's OpenBLAS and CHOLMOD's spin-wait against each other and against
-        the solver's own work (docs/solvers.md: cholmod 0.68 of the time on 2 cores).
+        the solver's own work (docs/solvers.md: cholmod 0.72 of the time on 2 cores).
     """
 
     method: str = "newton"

@@ -58,7 +58,7 @@ def blas_threads(limit: int | None, name: str) -> contextlib.AbstractContextMana
     them (imported first: CHOLMOD loads the system's BLAS), uses at most ``limit`` threads
     (None: no limit). Measured on 2 cores (docs/solvers.md): numpy's and CHOLMOD's OpenBLAS
     threads spin-wait against each other and the solver's own work; with one thread each, the
-    torso at 448 x 224 relaxed on cholmod in 0.68 of the time (superlu: the same)."""
+    torso at 448 x 224 relaxed on cholmod in 0.72 of the time (superlu: the same)."""
     if limit is None:
         return contextlib.nullcontext()
     from threadpoolctl import threadpool_limits
