@@ -159,3 +159,27 @@ def test_newton_on_cholmod_keeps_the_exact_hessians_quadratic_convergence(caplog
     assert results["cholmod"].iterations <= results["superlu"].iterations + 1
     gap = results["cholmod"].final.x - results["superlu"].final.x
     assert np.abs(gap).max() < 1e-8
+
+
+def test_a_cholesky_preconditioner_is_shifted_until_cholmod_takes_it():
+    """The matrix to factorise for a preconditioner is indefinite (smallest eigenvalue -0.5,
+    largest diagonal entry 5e4; 10,000 unknowns, so CHOLMOD factorises supernodally and refuses
+    it): it is shifted 100-fold from 1e-8 of that entry until CHOLMOD takes it (refused as it
+    is and with 5e-4 and 5e-2, taken with 5), and GMRES solves the exact matrix (smallest
+    eigenvalue +0.5) with that factor to the residual asked, without SuperLU."""
+    pytest.importorskip("sksparse")
+    from cloth.solvers.linear import factorisations
+    from tests.test_ordering import grid_graph, laplacian
+
+    k = 100
+    stiffness = (1e4 * laplacian(grid_graph(k, k))).tocsr()  # smallest eigenvalue 1e4
+    factorise = (stiffness - 1.00005e4 * sp.identity(k * k)).tocsr()
+    exact = (factorise + sp.identity(k * k)).tocsr()
+    rhs = np.random.default_rng(7).normal(size=k * k)
+    reuse = Reuse("cholmod", gmres=False)
+    reuse.rtol = 1e-10
+    before = factorisations()
+    x = reuse.solve(exact, rhs, factorise=factorise)
+    assert factorisations() - before == 4  # three refused, the fourth taken
+    assert reuse.fallbacks == 0 and 0 < reuse.krylov[-1] <= KRYLOV_LIMIT
+    assert np.linalg.norm(exact @ x - rhs) <= 1e-10 * np.linalg.norm(rhs)

@@ -90,8 +90,8 @@ KRYLOV_RTOL = 1e-12
 #: KRYLOV_LOOSEST); the forcing term shrinks with the residual, so the last steps stay quadratic.
 FORCING = 0.1
 KRYLOV_LOOSEST = 1e-2
-#: The first shift (x the largest diagonal entry) that makes an indefinite projected matrix a
-#: Cholesky preconditioner (`Reuse._preconditioner`).
+#: The first shift (x the largest diagonal entry) tried where CHOLMOD finds the matrix it is to
+#: factorise for a preconditioner not positive definite (`Reuse._preconditioner`).
 PRECONDITIONER_SHIFT = 1e-8
 
 
@@ -184,8 +184,10 @@ class Reuse:
 
     def _preconditioner(self, matrix: sp.csr_matrix):
         """A factor of ``matrix`` (the projected Newton matrix), or of ``matrix`` + s I where
-        the contact curvature term leaves it indefinite (a preconditioner need only be near):
-        s from `PRECONDITIONER_SHIFT` x its largest diagonal entry, 100-fold up to 1e-2."""
+        CHOLMOD finds it not positive definite (a preconditioner need only be near; Newton's
+        projected matrix without the curvature term is PSD plus 1e-10 of its largest diagonal
+        entry, so this is a safety net): s from `PRECONDITIONER_SHIFT` x that entry, 100-fold,
+        up to 1e-2 x it (beyond, the error goes up: `solve` then takes SuperLU)."""
         if self.backend != "cholmod":
             return _factor(matrix)
         from sksparse.cholmod import CholmodNotPositiveDefiniteError
