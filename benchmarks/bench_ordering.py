@@ -70,7 +70,7 @@ def main() -> None:
                 options={"SymmetricMode": True},
             ))  # fmt: skip
             times["mmd"].append(seconds)
-            nd, seconds = timed(lambda: _factor(matrix))  # ordering kept after the first
+            nd, seconds = timed(lambda: _factor(matrix, dissect=True))  # ordering kept
             times["nd"].append(seconds)
             for name, factor in (("mmd", mmd), ("nd", nd)):
                 x, seconds = timed(lambda: factor.solve(rhs))

@@ -272,14 +272,27 @@ def factorisations() -> int:
     return _factorisations
 
 
-def _factor(matrix: sp.csr_matrix) -> _Permuted:
-    """SuperLU's factor of ``matrix`` (counted), tuned for these symmetric systems: in the
+#: Unknowns from which SuperLU factorises in nested-dissection order; below, its own
+#: minimum-degree order is as fast (4,608 nodes: 1.07 of its time, docs/performance.md) and the
+#: ordering, recomputed where the contact set changes the pattern, would cost more than it
+#: saves (measured: a tissue test at 1.7x the time).
+DISSECT_FROM = 30_000
+
+
+def _factor(matrix: sp.csr_matrix, dissect: bool | None = None):
+    """SuperLU's factor of ``matrix`` (counted), tuned for these symmetric systems: no
+    pivoting, symmetric mode, and from `DISSECT_FROM` unknowns (or where ``dissect``) in the
     nested-dissection order of its node graph (`cloth.solvers.ordering`; 2.4x faster to
-    factorise at 100k nodes than SuperLU's minimum degree), no pivoting, symmetric mode."""
+    factorise at 100k nodes than SuperLU's minimum degree, MMD(A^T + A), taken below)."""
     from scipy.sparse.linalg import splu
 
     global _factorisations
     _factorisations += 1
+    if not (matrix.shape[0] >= DISSECT_FROM if dissect is None else dissect):
+        return splu(
+            sp.csc_matrix(matrix), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
+            options={"SymmetricMode": True},
+        )  # fmt: skip
     csc = sp.csc_matrix(matrix)
     csc.sort_indices()
     reordering = reordering_for(csc)
