@@ -27,7 +27,7 @@ def surface_points(body: SmoothTorso, count: int, low: float, high: float) -> np
     implicit form the body uses)."""
     z = RNG.uniform(low, high, count)
     angle = RNG.uniform(0, 2 * np.pi, count)
-    a, front, back = body._profile(z, 0)
+    a, front, back = body._profile(z)[0]
     x, y = superellipse(angle)
     return np.column_stack([a * x, np.where(y > 0, y * front, y * back), z])
 

@@ -31,18 +31,36 @@ PROJECTION_ITERATIONS = 25
 PROJECTION_TOLERANCE = 1e-13
 
 
-def _solve(lhs: NDArray, rhs: NDArray) -> NDArray:
-    """Batched 4 x 4 solves; a singular system (a point where grad G vanishes) gets NaN."""
-    try:
-        return np.linalg.solve(lhs, rhs[..., None])[..., 0]
-    except np.linalg.LinAlgError:
-        out = np.full(rhs.shape, np.nan)
-        for i in range(len(lhs)):
-            try:
-                out[i] = np.linalg.solve(lhs[i], rhs[i])
-            except np.linalg.LinAlgError:
-                pass
-        return out
+def _kkt_step(a: NDArray, g: NDArray, r: NDArray, c: NDArray) -> NDArray:
+    """Per point, the solution (dq, dmu) ((P, 4)) of [[A, g], [g^T, 0]] [dq; dmu] = [r; c]
+    for A ((P, 3, 3), symmetric), g and r ((P, 3)) and c ((P,)): dq = A^-1 (r - g dmu) with
+    dmu = (g . A^-1 r - c) / (g . A^-1 g), A^-1 by its adjugate (closed form; with LAPACK's
+    batched 4 x 4 solves instead, a query of 100k points near the torso took 0.48 s, not 0.35).
+    NaN where the system is singular (a point where grad G vanishes)."""
+    a00, a01, a02 = a[:, 0, 0], a[:, 0, 1], a[:, 0, 2]
+    a11, a12, a22 = a[:, 1, 1], a[:, 1, 2], a[:, 2, 2]
+    c00, c01, c02 = a11 * a22 - a12 * a12, a12 * a02 - a01 * a22, a01 * a12 - a11 * a02
+    c11, c12, c22 = a00 * a22 - a02 * a02, a02 * a01 - a00 * a12, a00 * a11 - a01 * a01
+    det = a00 * c00 + a01 * c01 + a02 * c02
+
+    def inverse_times(v: NDArray) -> NDArray:
+        x, y, z = v[:, 0], v[:, 1], v[:, 2]
+        return (
+            np.column_stack(
+                [
+                    c00 * x + c01 * y + c02 * z,
+                    c01 * x + c11 * y + c12 * z,
+                    c02 * x + c12 * y + c22 * z,
+                ]
+            )
+            / det[:, None]
+        )
+
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ar, ag = inverse_times(r), inverse_times(g)
+        dmu = (np.einsum("ij,ij->i", g, ar) - c) / np.einsum("ij,ij->i", g, ag)
+        step = np.column_stack([ar - ag * dmu[:, None], dmu])
+    return np.where(np.isfinite(step), step, np.nan)
 
 
 class ImplicitBody:
@@ -83,13 +101,8 @@ class ImplicitBody:
         failed = []  # singular systems (grad G = 0): to the fallback
         for _ in range(PROJECTION_ITERATIONS):
             value, g, h = self.implicit(q[active])
-            lhs = np.zeros((len(active), 4, 4))
-            lhs[:, :3, :3] = np.eye(3) + mu[active, None, None] * h
-            lhs[:, :3, 3] = lhs[:, 3, :3] = g
-            rhs = -np.concatenate(
-                [q[active] - p[active] + mu[active, None] * g, value[:, None]], axis=1
-            )
-            step = _solve(lhs, rhs)
+            block = np.eye(3) + mu[active, None, None] * h
+            step = _kkt_step(block, g, p[active] - q[active] - mu[active, None] * g, -value)
             ok = np.all(np.isfinite(step), axis=1)
             failed.append(active[~ok])
             step[~ok] = 0.0
@@ -124,7 +137,7 @@ class ImplicitBody:
         length = np.linalg.norm(g, axis=1)
         n = g / length[:, None]
         proj = np.eye(3) - n[:, :, None] * n[:, None, :]
-        return np.einsum("pij,pjk,pkl->pil", proj, h, proj) / length[:, None, None]
+        return proj @ h @ proj / length[:, None, None]
 
     def curvature(self, surface_points: ArrayLike) -> tuple[NDArray, NDArray]:
         """Principal curvatures ((P,), (P,), 1/m; k1 >= k2, positive where convex) at surface

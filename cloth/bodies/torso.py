@@ -253,31 +253,37 @@ class SmoothTorso(ImplicitBody, AnalyticBody):
         d, f = depth(z), front(z)
         scale = girth(z) / _unit_perimeter(d, f, 1024)
         object.__setattr__(self, "_girth", girth)
-        object.__setattr__(
-            self,
-            "_splines",
-            tuple(CubicSpline(z, v) for v in (scale, scale * 2 * d * f, scale * 2 * d * (1 - f))),
-        )
+        profiles = np.column_stack([scale, scale * 2 * d * f, scale * 2 * d * (1 - f)])
+        spline = CubicSpline(z, profiles)  # a, b_front, b_back together
+        # its pieces' coefficients, (pieces, 4 powers, 3 profiles), highest power first
+        object.__setattr__(self, "_pieces", np.ascontiguousarray(spline.c.transpose(1, 0, 2)))
+        object.__setattr__(self, "_knots", spline.x)
 
     # -- the section profiles and the implicit function ------------------------------------
 
-    def _profile(self, z: NDArray, derivative: int) -> NDArray:
-        """(3, P): a, b_front, b_back (m) or their z derivatives at heights z; continued by
-        their tangent lines below the bottom and above the top (the surface stays C^1)."""
+    def _profile(self, z: NDArray) -> tuple[NDArray, NDArray, NDArray]:
+        """a, b_front, b_back (m), their z derivatives (1) and second derivatives (1/m) at
+        heights z ((P,)), each (3, P); continued by their tangent lines below the bottom and
+        above the top (the surface stays C^1; the second derivatives are 0 there). One look-up
+        of the spline piece (the samples are evenly spaced) and Horner's rule for all three."""
         zc = np.clip(z, self.bottom, self.top)
-        if derivative == 2:
-            inside = (z > self.bottom) & (z < self.top)
-            return np.where(inside, np.stack([s(zc, 2) for s in self._splines]), 0.0)
-        slope = np.stack([s(zc, 1) for s in self._splines])
-        if derivative == 1:
-            return slope
-        return np.stack([s(zc) for s in self._splines]) + slope * (z - zc)
+        knots, pieces = self._knots, self._pieces
+        spacing = (self.top - self.bottom) / (len(knots) - 1)
+        index = np.clip(((zc - self.bottom) / spacing).astype(np.intp), 0, len(pieces) - 1)
+        t = (zc - knots[index])[:, None]
+        c = pieces[index]  # (P, 4, 3)
+        value = ((c[:, 0] * t + c[:, 1]) * t + c[:, 2]) * t + c[:, 3]
+        slope = (3.0 * c[:, 0] * t + 2.0 * c[:, 1]) * t + c[:, 2]
+        inside = ((z > self.bottom) & (z < self.top))[:, None]
+        bend = np.where(inside, 6.0 * c[:, 0] * t + 2.0 * c[:, 1], 0.0)
+        value += slope * (z - zc)[:, None]
+        return value.T, slope.T, bend.T
 
     def implicit(self, q: NDArray) -> tuple[NDArray, NDArray, NDArray]:
         """G ((P,)), its gradient ((P, 3), 1/m) and Hessian ((P, 3, 3), 1/m^2) at q."""
         p = EXPONENT
         x, y, z = q[:, 0], q[:, 1], q[:, 2]
-        (a, bf, bb), (da, dbf, dbb), (dda, ddbf, ddbb) = (self._profile(z, k) for k in (0, 1, 2))
+        (a, bf, bb), (da, dbf, dbb), (dda, ddbf, ddbb) = self._profile(z)
         front = y >= 0
         b, db, ddb = np.where(front, bf, bb), np.where(front, dbf, dbb), np.where(front, ddbf, ddbb)
         gradient = np.empty((len(q), 3))
@@ -286,11 +292,13 @@ class SmoothTorso(ImplicitBody, AnalyticBody):
         for axis, s, ds, dds in ((0, a, da, dda), (1, b, db, ddb)):
             u = q[:, axis] / s
             au, sg = np.abs(u), np.sign(u)
-            power = au**p
+            second = au ** (p - 2)  # one power; the others from it (p > 2: 0 at u = 0)
+            first = second * au
+            power = first * au
             value += power
-            gradient[:, axis] = p * au ** (p - 1) * sg / s
-            hessian[:, axis, axis] = p * (p - 1) * au ** (p - 2) / s**2
-            hessian[:, axis, 2] = hessian[:, 2, axis] = -(p**2) * au ** (p - 1) * sg * ds / s**2
+            gradient[:, axis] = p * first * sg / s
+            hessian[:, axis, axis] = p * (p - 1) * second / s**2
+            hessian[:, axis, 2] = hessian[:, 2, axis] = -(p**2) * first * sg * ds / s**2
             hessian[:, 2, 2] += p * power * ((p + 1) * ds**2 / s**2 - dds / s)
         gradient[:, 2] = -p * (np.abs(x / a) ** p * da / a + np.abs(y / b) ** p * db / b)
         return value, gradient, hessian
@@ -298,7 +306,7 @@ class SmoothTorso(ImplicitBody, AnalyticBody):
     def _level(self, p: NDArray) -> tuple[NDArray, NDArray]:
         """(|x/a|^p + |y/b|^p)^(1/p) at points p ((P,), < 1 inside, 1 on the surface, the
         factor by which p lies outside along the horizontal ray from the axis) and a (m)."""
-        a, bf, bb = self._profile(p[:, 2], 0)
+        a, bf, bb = self._profile(p[:, 2])[0]
         x, y = p[:, 0], p[:, 1]
         b = np.where(y >= 0, bf, bb)
         return (np.abs(x / a) ** EXPONENT + np.abs(y / b) ** EXPONENT) ** (1 / EXPONENT), a
@@ -318,7 +326,7 @@ class SmoothTorso(ImplicitBody, AnalyticBody):
 
     def _polygon(self, z: float) -> NDArray[np.float64]:
         t = 2 * np.pi * np.arange(SECTION_POINTS) / SECTION_POINTS
-        a, front, back = self._profile(np.array([z]), 0)[:, 0]
+        a, front, back = self._profile(np.array([z]))[0][:, 0]
         return np.column_stack(_section(t, a, front, back))
 
     def _perimeter(self, z: float) -> float:
