@@ -51,14 +51,15 @@ def shortest_rest(problem: Problem) -> NDArray[np.float64]:
 
 def explicit_step(
     problem: Problem, ev: Evaluation, cap: NDArray[np.float64]
-) -> tuple[NDArray[np.float64], float]:
-    """One iteration of eq. (2); returns the new positions and the largest move (m)."""
+) -> tuple[Evaluation, float]:
+    """One iteration of eq. (2); returns the evaluation at the new positions and the largest
+    move (m)."""
     magnitude = np.linalg.norm(ev.free, axis=1)
     with np.errstate(invalid="ignore", divide="ignore"):
         direction = np.where(magnitude[:, None] > 0, ev.free / magnitude[:, None], 0.0)
     p = np.minimum(OMEGA * magnitude / node_stiffness(problem, ev, direction), cap)
-    x = problem.project_out(ev.x + p[:, None] * direction, hold=ev.on_body)
-    return x, float(p.max()) if len(p) else 0.0
+    new = problem.evaluate(*problem.settle(ev.x + p[:, None] * direction, hold=ev.on_body))
+    return new, float(p.max()) if len(p) else 0.0
 
 
 class Explicit:
@@ -72,5 +73,5 @@ class Explicit:
         self.cap = cap
 
     def step(self, problem: Problem, ev: Evaluation) -> Step:
-        x, move = explicit_step(problem, ev, self.cap)
-        return Step(problem.evaluate(x), move)
+        new, move = explicit_step(problem, ev, self.cap)
+        return Step(new, move)

@@ -307,7 +307,7 @@ def _line_search(
     alpha = 1.0
     rounding = 64 * np.finfo(float).eps * max(abs(ev.energy), 1e-300)
     for _ in range(MAX_HALVINGS):
-        trial = problem.evaluate(problem.project_out(ev.x + alpha * dx, hold))
+        trial = problem.evaluate(*problem.settle(ev.x + alpha * dx, hold))
         # a trial that folds two nodes onto one point has NaN spring directions: refused
         if (
             np.isfinite(trial.energy)

@@ -27,6 +27,10 @@ from cloth.tissue import Layer
 #: Newton corrections along the horizontal normal that put a sliding edge node on the body.
 LEVEL_ITERATIONS = 3
 
+#: A body's query at N points: signed distance (N,) m, closest points (N, 3) m, unit normals
+#: (N, 3) (`cloth.bodies.Body.query`).
+Query = tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]
+
 
 @dataclass(frozen=True)
 class Evaluation:
@@ -133,13 +137,15 @@ class Problem:
                 projector[self.gauge] -= np.outer(turn, turn)
         return turn
 
-    def evaluate(self, x: NDArray[np.float64]) -> Evaluation:
+    def evaluate(self, x: NDArray[np.float64], query: Query | None = None) -> Evaluation:
+        """The `Evaluation` at ``x`` ((N, 3), m); ``query``: the body's query at ``x`` where it
+        is known (`settle`), else the body is queried."""
         from cloth.mechanics import _operators
 
         springs = spring_state(x, self.grid)
         spring_force = spring_forces(springs, self.grid)
         forces = -(_operators(self.grid).incidence_t @ spring_force)
-        distance, closest, normal = self.body.query(x)
+        distance, closest, normal = self.body.query(x) if query is None else query
         work = energy(x, self.grid, springs)
         loads, friction, indentation = forces, None, None
         if self.friction is not None:
@@ -207,36 +213,52 @@ class Problem:
     def project_out(
         self, x: NDArray[np.float64], hold: NDArray[np.bool_] | None = None
     ) -> NDArray[np.float64]:
+        """``x`` with nodes inside the body, and the ``hold`` nodes, moved onto it (`settle`)."""
+        return self.settle(x, hold)[0]
+
+    def settle(
+        self, x: NDArray[np.float64], hold: NDArray[np.bool_] | None = None
+    ) -> tuple[NDArray[np.float64], Query | None]:
         """Move nodes inside the body, and the ``hold`` nodes wherever they are, onto its
         surface: to the closest point, or for a sliding edge node, along its horizontal normal
         (its height is the edge's: Newton on the distance, ``LEVEL_ITERATIONS`` queries). With
-        tissue the skin gives way: nothing is moved."""
+        tissue the skin gives way: nothing is moved.
+
+        Returns the positions and the body's query at them (`evaluate`'s ``query``; None with
+        tissue): a node left where it was keeps its query, a node put on a smooth body has
+        distance 0, its closest point itself and the normal there (the one the query that moved
+        it found), and on a mesh the moved nodes are queried again (the normal at a point on an
+        edge is not the one from outside it)."""
         if self.tissue is not None:
-            return x
+            return x, None
         distance, closest, normal = self.body.query(x)
         move = distance < 0.0
         if hold is not None:
             move |= hold
         if not np.any(move):
-            return x
+            return x, (distance, closest, normal)
         x = x.copy()
-        level = move & (self.constraint == SLIDING)
-        x[move & ~level] = closest[move & ~level]
-        rows = np.flatnonzero(level)
-        d, n = distance[rows], normal[rows]
+        distance, closest, normal = distance.copy(), closest.copy(), normal.copy()
+        placed = move & (self.constraint != SLIDING)  # onto their closest points
+        x[placed] = closest[placed]
+        distance[placed] = 0.0
+        rows = np.flatnonzero(move & (self.constraint == SLIDING))
         for _ in range(LEVEL_ITERATIONS):
-            horizontal = n.copy()
+            horizontal = normal[rows].copy()
             horizontal[:, 2] = 0.0
-            along = np.einsum("ij,ij->i", horizontal, n)
+            along = np.einsum("ij,ij->i", horizontal, normal[rows])
             steep = along > 1e-6  # else (a cap, a ledge): the closest point
-            x[rows[~steep]] = closest[rows[~steep]]
-            rows, d, horizontal, along = rows[steep], d[steep], horizontal[steep], along[steep]
-            x[rows] -= (d / along)[:, None] * horizontal
+            flat = rows[~steep]
+            x[flat], distance[flat] = closest[flat], 0.0
+            rows, horizontal, along = rows[steep], horizontal[steep], along[steep]
+            x[rows] -= (distance[rows] / along)[:, None] * horizontal
             if rows.size == 0:
                 break
-            d, closest_rows, n = self.body.query(x[rows])
-            closest[rows] = closest_rows
-        return x
+            distance[rows], closest[rows], normal[rows] = self.body.query(x[rows])
+        if isinstance(self.body, MeshBody):
+            again = np.flatnonzero(move)
+            distance[again], closest[again], normal[again] = self.body.query(x[again])
+        return x, (distance, closest, normal)
 
     def contacts(self, ev: Evaluation) -> int:
         return int(np.count_nonzero(ev.distance <= CONTACT_TOLERANCE))

@@ -113,7 +113,7 @@ def _relax(
         state = start_from_coarse(state, body, settings, relax)
     problem = Problem.of(state, body)
     history = History()
-    ev = problem.evaluate(problem.project_out(state.x))
+    ev = problem.evaluate(*problem.settle(state.x))
     if problem.lagged:
         problem = lagged.start(problem, ev)
         ev = problem.evaluate(ev.x)
