@@ -24,6 +24,7 @@ import contextlib
 import importlib
 import importlib.util
 import logging
+from collections.abc import Callable
 
 import numpy as np
 import scipy.sparse as sp
@@ -33,6 +34,11 @@ from cloth.errors import InputError
 from cloth.solvers.ordering import reordering_for
 
 log = logging.getLogger(__name__)
+
+#: What a `PRECONDITIONED` backend factorises for a Newton matrix: the matrix, or a function that
+#: assembles it (called only where a new factor is needed: a step GMRES solves on the kept one
+#: never assembles it).
+Factorise = sp.csr_matrix | Callable[[], sp.csr_matrix]
 
 PACKAGES = {"cholmod": "sksparse", "pardiso": "pypardiso", "amg": "pyamg"}
 #: The module that loads each backend's native libraries (and its BLAS).
@@ -86,6 +92,13 @@ def choose(name: str) -> str:
 #: 40th to a 60th of a factorisation at 100k nodes (issue 12), so up to 30 are worth trying.
 KRYLOV_LIMIT = 30
 KRYLOV_RTOL = 1e-12
+#: GMRES is given up early, from `KRYLOV_CHECK` iterations, where its residual at the mean rate
+#: so far would reach the tolerance only past `KRYLOV_PATIENCE` x `KRYLOV_LIMIT` iterations.
+#: Measured on the torso (448 x 224 and its levels): the solves that failed at 30 iterations had
+#: |r| / |b| at 0.2 after 9-12 with 1e-3 to 1e-5 to reach (projected: 39-64 iterations), the
+#: longest that succeeded (22-29 iterations) 0.04-0.2 with 1e-2 to 2e-3 (projected: 12-26).
+KRYLOV_CHECK = 10
+KRYLOV_PATIENCE = 1.5
 #: Inexact Newton: a reused solve need only reach FORCING x the relative residual (at most
 #: KRYLOV_LOOSEST); the forcing term shrinks with the residual, so the last steps stay quadratic.
 FORCING = 0.1
@@ -101,8 +114,9 @@ class Reuse:
 
     A system of the same size is solved by GMRES (the Newton matrix may be indefinite, and the
     kept factor is another matrix's, so neither CG nor MINRES applies) preconditioned by the
-    kept factor; when GMRES needs more than `KRYLOV_LIMIT` iterations to reach its tolerance,
-    the matrix is factorised afresh and kept. A factor costs 40-60 solves at 100k nodes (issue
+    kept factor; when GMRES needs more than `KRYLOV_LIMIT` iterations to reach its tolerance
+    (or would, at its rate so far: `KRYLOV_PATIENCE`), the matrix is factorised afresh and
+    kept. A factor costs 40-60 solves at 100k nodes (issue
     12), so a Newton step that reuses one costs a few solves instead of a factorisation.
     ``krylov`` lists the GMRES iterations of every solve (0 for a direct solve with a fresh
     factor of the matrix itself), ``abandoned`` those of the attempts given up. With ``gmres``
@@ -125,11 +139,12 @@ class Reuse:
         self,
         matrix: sp.csr_matrix,
         rhs: NDArray[np.float64],
-        factorise: sp.csr_matrix | None = None,
+        factorise: Factorise | None = None,
     ) -> NDArray[np.float64]:
         """``matrix^-1 rhs``: by GMRES on the kept factor where it serves, else from a fresh
-        factor. ``factorise``: the matrix to factorise instead (CHOLMOD: the PSD-projected
-        Newton matrix, positive definite where ``matrix``, the exact one, need not be);
+        factor. ``factorise``: the matrix to factorise instead, or its assembly (`Factorise`;
+        CHOLMOD: the PSD-projected Newton matrix, positive definite where ``matrix``, the exact
+        one, need not be);
         ``matrix`` is then solved by GMRES preconditioned by that factor, and where GMRES
         fails there too, by SuperLU (``fallbacks`` counts those)."""
         if self.gmres and self.factor is not None and matrix.shape[0] == self.size:
@@ -140,7 +155,7 @@ class Reuse:
         if factorise is None:
             self.factor = self._cholmod(matrix) if self.backend == "cholmod" else _factor(matrix)
         else:
-            self.factor = self._preconditioner(factorise)
+            self.factor = self._preconditioner(factorise() if callable(factorise) else factorise)
         self.size = matrix.shape[0]
         if factorise is not None:
             x = self._krylov(matrix, rhs)
@@ -165,16 +180,25 @@ class Reuse:
         # one the forcing term bounds (left-preconditioned, it minimised |M r|, which went
         # below rtol with |r| still at 0.1-0.7 where the contact set had moved)
         factor, count = self.factor, [0]
+        rtol = self.rtol
 
-        def tick(_):
+        def tick(residual: float) -> None:  # |r| / |b| after each iteration
             count[0] += 1
+            if count[0] >= KRYLOV_CHECK and _hopeless(residual, count[0], rtol):
+                raise _GiveUp
 
-        operator = LinearOperator(matrix.shape, matvec=lambda y: matrix @ factor.solve(y))
+        # dtype given: else LinearOperator finds it by a trial product (a solve, wasted)
+        operator = LinearOperator(
+            matrix.shape, matvec=lambda y: matrix @ factor.solve(y), dtype=np.float64
+        )
         with np.errstate(all="ignore"):
-            y, info = gmres(
-                operator, rhs, rtol=self.rtol, atol=0.0, restart=KRYLOV_LIMIT, maxiter=1,
-                callback=tick, callback_type="pr_norm",
-            )  # fmt: skip
+            try:
+                y, info = gmres(
+                    operator, rhs, rtol=rtol, atol=0.0, restart=KRYLOV_LIMIT, maxiter=1,
+                    callback=tick, callback_type="pr_norm",
+                )  # fmt: skip
+            except _GiveUp:
+                y, info = rhs, -1
         x = factor.solve(y) if info == 0 else y
         if info == 0 and np.all(np.isfinite(x)):
             self.krylov.append(count[0])
@@ -225,6 +249,19 @@ class Reuse:
         return _Cholesky(self.analysis)
 
 
+class _GiveUp(Exception):
+    """GMRES would not reach its tolerance within its limit (`_hopeless`)."""
+
+
+def _hopeless(residual: float, iterations: int, rtol: float) -> bool:
+    """Whether GMRES, at relative residual ``residual`` after ``iterations``, would reach
+    ``rtol`` only past `KRYLOV_PATIENCE` x `KRYLOV_LIMIT` iterations at its mean rate so far."""
+    if not 0.0 < residual < 1.0:
+        return residual >= 1.0
+    needed = iterations * np.log(rtol) / np.log(residual)
+    return bool(needed > KRYLOV_PATIENCE * KRYLOV_LIMIT)
+
+
 class _Cholesky:
     """A CHOLMOD factor with SuperLU's ``solve``."""
 
@@ -240,11 +277,11 @@ def solve(
     rhs: NDArray[np.float64],
     name: str,
     reuse: Reuse | None = None,
-    factorise: sp.csr_matrix | None = None,
+    factorise: Factorise | None = None,
 ) -> NDArray[np.float64]:
     """Solve ``matrix @ x = rhs`` (symmetric) with solver ``name`` (already `choose`n), or with
     ``reuse``'s kept factor (`Reuse`, SuperLU or CHOLMOD); ``factorise``: the positive definite
-    matrix a `PRECONDITIONED` backend factorises instead (`Reuse.solve`).
+    matrix a `PRECONDITIONED` backend factorises instead, or its assembly (`Reuse.solve`).
 
     An iterative or Cholesky backend can fail where the matrix is not positive definite (the
     curvature term of contact can make it indefinite far from equilibrium): that step is then

@@ -60,6 +60,7 @@ from cloth.solvers.linear import (
     KRYLOV_RTOL,
     PRECONDITIONED,
     REUSABLE,
+    Factorise,
     Reuse,
     solve,
 )
@@ -230,8 +231,10 @@ def _direction(
     factorise = None  # what a PRECONDITIONED backend factorises for the exact matrix
     for project in tries:
         matrix = newton_matrix(problem, ev, held, projector, k(project))
-        if not project and solver in PRECONDITIONED:  # positive definite
-            factorise = newton_matrix(problem, ev, held, projector, k(True), curvature=False)
+        if not project and solver in PRECONDITIONED:  # positive definite; assembled if needed
+            factorise = functools.cache(
+                lambda: newton_matrix(problem, ev, held, projector, k(True), curvature=False)
+            )
         dx, slope = _solve_step(matrix, rhs, projector, solver, reuse, factorise)
         if slope > 0:
             return dx, slope
@@ -263,7 +266,7 @@ def _shifted(
     solver: str,
     reuse: Reuse | None,
     curvature: float,
-    factorise: sp.csr_matrix | None = None,
+    factorise: Factorise | None = None,
 ) -> tuple[NDArray[np.float64], float] | None:
     """The move with ``matrix`` shifted by s I (Levenberg-Marquardt) and its slope, the first
     that descends: s from twice the most negative ``curvature`` (N/m) met along a refused move,
@@ -274,12 +277,17 @@ def _shifted(
     shift = max(-2.0 * curvature, SHIFT_START * scale)
     identity = sp.identity(matrix.shape[0], format="csr")
     while shift <= SHIFT_LIMIT * scale:
-        moved = None if factorise is None else factorise + shift * identity
+        moved = None if factorise is None else _shifted_assembly(factorise, shift * identity)
         dx, slope = _solve_step(matrix + shift * identity, rhs, projector, solver, reuse, moved)
         if slope > 0:
             return dx, slope
         shift *= SHIFT_GROWTH
     return None
+
+
+def _shifted_assembly(factorise: Factorise, shift: sp.csr_matrix) -> Factorise:
+    """``factorise`` (a matrix or its assembly) plus ``shift``, assembled when needed."""
+    return lambda: (factorise() if callable(factorise) else factorise) + shift
 
 
 def _solve_step(
@@ -288,7 +296,7 @@ def _solve_step(
     projector: NDArray[np.float64],
     solver: str,
     reuse: Reuse | None = None,
-    factorise: sp.csr_matrix | None = None,
+    factorise: Factorise | None = None,
 ) -> tuple[NDArray[np.float64], float]:
     """The move ``matrix^-1 rhs`` in the allowed directions ((N, 3), m) and its slope (J); the
     slope is NaN where the matrix is singular. ``factorise``: `cloth.solvers.linear.solve`'s."""
