@@ -98,6 +98,31 @@ def test_cholmod_keeps_its_symbolic_analysis_for_the_same_pattern():
     np.testing.assert_allclose(wider @ x, rhs, rtol=0, atol=1e-9 * np.abs(rhs).max())
 
 
+def test_pardiso_keeps_its_symbolic_analysis_for_the_same_pattern():
+    """Pardiso analyses a pattern once (phase 12) and factorises only the numbers of the next
+    matrix of that pattern (phase 22), an indefinite one too (the exact Newton matrix), and
+    analyses a new pattern afresh; every answer exact."""
+    pytest.importorskip("pypardiso")
+    n = 300
+    rhs = np.random.default_rng(4).normal(size=n)
+    reuse = Reuse("pardiso", gmres=False)
+    chain = stiff_chain(n)
+    soft = np.zeros(n)
+    soft[[40, 41, 200]] = -3e4
+    indefinite = (chain + sp.diags(soft)).tocsr()
+    wider = (chain + sp.diags(np.full(n - 2, -1.0), 2) + sp.diags(np.full(n - 2, -1.0), -2)).tocsr()
+    x = reuse.solve(chain, rhs)
+    np.testing.assert_allclose(chain @ x, rhs, rtol=0, atol=1e-9 * np.abs(rhs).max())
+    solver, phases = reuse.analysis, []
+    original = solver.set_phase
+    solver.set_phase = lambda phase: (phases.append(phase), original(phase))[1]
+    for matrix in (indefinite, wider):
+        x = reuse.solve(matrix, rhs)
+        np.testing.assert_allclose(matrix @ x, rhs, rtol=0, atol=1e-9 * np.abs(rhs).max())
+    assert reuse.analysis is solver and reuse.krylov == [0, 0, 0]
+    assert [p for p in phases if p != 33] == [22, 12]
+
+
 def test_cholmod_with_reuse_reaches_superlus_equilibrium():
     """Newton on CHOLMOD with its factor kept (GMRES on the next systems) ends where plain
     SuperLU Newton ends, with fewer factorisations than CHOLMOD without reuse (torso 96 x 48,

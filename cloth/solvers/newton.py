@@ -54,6 +54,7 @@ from cloth.grid import FIXED, SLIDING
 from cloth.mechanics import stiffness
 from cloth.solvers.activeset import Stiffness, entering, held_nodes
 from cloth.solvers.linear import (
+    ANALYSED,
     FORCING,
     INDEFINITE,
     KRYLOV_LOOSEST,
@@ -157,8 +158,8 @@ class Newton:
 
     def __init__(self, solver: str, reuse: bool = False) -> None:
         self.solver = solver
-        # CHOLMOD keeps its symbolic analysis between iterations even without reuse
-        keep = solver in REUSABLE and (reuse or solver == "cholmod")
+        # CHOLMOD and pardiso keep their symbolic analysis between iterations even without reuse
+        keep = solver in REUSABLE and (reuse or solver in ANALYSED)
         self.reuse = Reuse(solver, gmres=reuse) if keep else None
 
     def step(self, problem: Problem, ev: Evaluation) -> Step:
