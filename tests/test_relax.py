@@ -319,8 +319,9 @@ def test_factorisations_and_peak_memory_are_recorded(monkeypatch):
     from cloth.solvers import linear
 
     calls = []
-    factorise = linear._solve
+    factorise, fresh = linear._solve, linear.Reuse._fresh  # direct solves; kept factors
     monkeypatch.setattr(linear, "_solve", lambda *a: calls.append(1) or factorise(*a))
+    monkeypatch.setattr(linear.Reuse, "_fresh", lambda *a: calls.append(1) or fresh(*a))
     state = tube({"cylinder": {"radius": 0.1, "bottom": 0.0, "top": 0.5}}, 0.2, n=32, m=4)
     result = solve(state)
     assert result.iterations > 0 and result.factorisations == len(calls) >= result.iterations
