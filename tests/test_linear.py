@@ -7,13 +7,8 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
-from cloth.solvers.linear import (
-    KRYLOV_CHECK,
-    KRYLOV_LIMIT,
-    KRYLOV_PATIENCE,
-    Reuse,
-    _hopeless,
-)
+from cloth.solvers.krylov import KRYLOV_CHECK, KRYLOV_LIMIT, KRYLOV_PATIENCE, _hopeless
+from cloth.solvers.linear import Reuse
 
 
 def stiff_chain(n: int, stiffness: float = 1e4) -> sp.csr_matrix:

@@ -33,6 +33,7 @@ import scipy.sparse as sp
 from numpy.typing import NDArray
 
 from cloth.errors import InputError
+from cloth.solvers.krylov import KRYLOV_RTOL, gmres_on
 from cloth.solvers.ordering import reordering_for
 
 log = logging.getLogger(__name__)
@@ -93,41 +94,24 @@ def choose(name: str) -> str:
     return name
 
 
-#: Reuse: GMRES iterations (each one solve with the kept factor) before refactorising, and the
-#: relative residual it must reach (tight: Newton's last steps stay quadratic). A solve costs a
-#: 40th to a 60th of a factorisation at 100k nodes (issue 12), so up to 30 are worth trying.
-KRYLOV_LIMIT = 30
-KRYLOV_RTOL = 1e-12
-#: GMRES is given up early, from `KRYLOV_CHECK` iterations, where its residual at the mean rate
-#: so far would reach the tolerance only past `KRYLOV_PATIENCE` x `KRYLOV_LIMIT` iterations.
-#: Measured on the torso (448 x 224 and its levels): the solves that failed at 30 iterations had
-#: |r| / |b| at 0.2 after 9-12 with 1e-3 to 1e-5 to reach (projected: 39-64 iterations), the
-#: longest that succeeded (22-29 iterations) 0.04-0.2 with 1e-2 to 2e-3 (projected: 12-26).
-KRYLOV_CHECK = 10
-KRYLOV_PATIENCE = 1.5
-#: Inexact Newton: a reused solve need only reach FORCING x the relative residual (at most
-#: KRYLOV_LOOSEST); the forcing term shrinks with the residual, so the last steps stay quadratic.
-FORCING = 0.1
-KRYLOV_LOOSEST = 1e-2
 #: The first shift (x the largest diagonal entry) tried where CHOLMOD finds the matrix it is to
 #: factorise for a preconditioner not positive definite (`Reuse._preconditioner`).
 PRECONDITIONER_SHIFT = 1e-8
 
 
 class Reuse:
-    """A factorisation kept for the next Newton systems (``solver: {reuse: true}``; SuperLU or
-    CHOLMOD, ``backend``).
+    """A factorisation kept for the next Newton systems (``solver: {reuse: true}``; SuperLU,
+    CHOLMOD or Pardiso, ``backend``).
 
-    A system of the same size is solved by GMRES (the Newton matrix may be indefinite, and the
-    kept factor is another matrix's, so neither CG nor MINRES applies) preconditioned by the
-    kept factor; when GMRES needs more than `KRYLOV_LIMIT` iterations to reach its tolerance
-    (or would, at its rate so far: `KRYLOV_PATIENCE`), the matrix is factorised afresh and
-    kept. A factor costs 40-60 solves at 100k nodes (issue
-    12), so a Newton step that reuses one costs a few solves instead of a factorisation.
+    A system of the same size is solved by GMRES preconditioned by the kept factor
+    (`cloth.solvers.krylov.gmres_on`); when GMRES needs more than its `KRYLOV_LIMIT` iterations to
+    reach its tolerance (or would, at its rate so far), the matrix is factorised afresh and
+    kept. A factor costs 40-60 solves at 100k nodes (issue 12), so a Newton step that reuses
+    one costs a few solves instead of a factorisation.
     ``krylov`` lists the GMRES iterations of every solve (0 for a direct solve with a fresh
     factor of the matrix itself), ``abandoned`` those of the attempts given up. With ``gmres``
-    False every system is factorised (CHOLMOD still keeps its symbolic analysis: the Newton
-    matrix's pattern is the grid's, so only the numbers are factorised again)."""
+    False every system is factorised (CHOLMOD and Pardiso still keep their symbolic analysis:
+    the Newton matrix's pattern is the grid's, so only the numbers are factorised again)."""
 
     def __init__(self, backend: str = "superlu", gmres: bool = True) -> None:
         self.backend = backend
@@ -196,39 +180,11 @@ class Reuse:
         return same
 
     def _krylov(self, matrix: sp.csr_matrix, rhs: NDArray[np.float64]) -> NDArray | None:
-        """GMRES on ``matrix`` preconditioned by the kept factor, to ``rtol`` within
-        `KRYLOV_LIMIT` iterations (recorded in ``krylov``), or None (in ``abandoned``)."""
-        from scipy.sparse.linalg import LinearOperator, gmres
-
-        # right preconditioning, A M y = b, x = M y: GMRES minimises the true residual, the
-        # one the forcing term bounds (left-preconditioned, it minimised |M r|, which went
-        # below rtol with |r| still at 0.1-0.7 where the contact set had moved)
-        factor, count = self.factor, [0]
-        rtol = self.rtol
-
-        def tick(residual: float) -> None:  # |r| / |b| after each iteration
-            count[0] += 1
-            if count[0] >= KRYLOV_CHECK and _hopeless(residual, count[0], rtol):
-                raise _GiveUp
-
-        # dtype given: else LinearOperator finds it by a trial product (a solve, wasted)
-        operator = LinearOperator(
-            matrix.shape, matvec=lambda y: matrix @ factor.solve(y), dtype=np.float64
-        )
-        with np.errstate(all="ignore"):
-            try:
-                y, info = gmres(
-                    operator, rhs, rtol=rtol, atol=0.0, restart=KRYLOV_LIMIT, maxiter=1,
-                    callback=tick, callback_type="pr_norm",
-                )  # fmt: skip
-            except _GiveUp:
-                y, info = rhs, -1
-        x = factor.solve(y) if info == 0 else y
-        if info == 0 and np.all(np.isfinite(x)):
-            self.krylov.append(count[0])
-            return x
-        self.abandoned.append(count[0])
-        return None
+        """`cloth.solvers.krylov.gmres_on` the kept factor, to ``rtol``: the answer (its
+        iterations in ``krylov``) or None (in ``abandoned``)."""
+        x, iterations = gmres_on(matrix, self.factor, rhs, self.rtol)
+        (self.krylov if x is not None else self.abandoned).append(iterations)
+        return x
 
     def _preconditioner(self, matrix: sp.csr_matrix):
         """A factor of ``matrix`` (the projected Newton matrix), or of ``matrix`` + s I where
@@ -291,19 +247,6 @@ class Reuse:
         self.analysis.set_phase(22 if same else 12)
         self.analysis._call_pardiso(csr, np.zeros((csr.shape[0], 1), order="F"))
         return _Pardiso(self.analysis, csr)
-
-
-class _GiveUp(Exception):
-    """GMRES would not reach its tolerance within its limit (`_hopeless`)."""
-
-
-def _hopeless(residual: float, iterations: int, rtol: float) -> bool:
-    """Whether GMRES, at relative residual ``residual`` after ``iterations``, would reach
-    ``rtol`` only past `KRYLOV_PATIENCE` x `KRYLOV_LIMIT` iterations at its mean rate so far."""
-    if not 0.0 < residual < 1.0:
-        return residual >= 1.0
-    needed = iterations * np.log(rtol) / np.log(residual)
-    return bool(needed > KRYLOV_PATIENCE * KRYLOV_LIMIT)
 
 
 class _Pardiso:

@@ -53,12 +53,10 @@ from cloth.bodies import MeshBody
 from cloth.grid import FIXED, SLIDING
 from cloth.mechanics import stiffness
 from cloth.solvers.activeset import Stiffness, entering, held_nodes
+from cloth.solvers.krylov import FORCING, KRYLOV_LOOSEST, KRYLOV_RTOL
 from cloth.solvers.linear import (
     ANALYSED,
-    FORCING,
     INDEFINITE,
-    KRYLOV_LOOSEST,
-    KRYLOV_RTOL,
     PRECONDITIONED,
     REUSABLE,
     Factorise,
