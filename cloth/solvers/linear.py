@@ -280,8 +280,9 @@ def solve(
     factorise: Factorise | None = None,
 ) -> NDArray[np.float64]:
     """Solve ``matrix @ x = rhs`` (symmetric) with solver ``name`` (already `choose`n), or with
-    ``reuse``'s kept factor (`Reuse`, SuperLU or CHOLMOD); ``factorise``: the positive definite
-    matrix a `PRECONDITIONED` backend factorises instead, or its assembly (`Reuse.solve`).
+    ``reuse``'s kept factor (`Reuse`: SuperLU, CHOLMOD or Pardiso); ``factorise``: the
+    positive definite matrix a `PRECONDITIONED` backend factorises instead, or its assembly
+    (`Reuse.solve`).
 
     An iterative or Cholesky backend can fail where the matrix is not positive definite (the
     curvature term of contact can make it indefinite far from equilibrium): that step is then
@@ -358,11 +359,7 @@ def _solve(matrix: sp.csr_matrix, rhs: NDArray[np.float64], name: str) -> NDArra
     if name == "superlu":
         return _factor(matrix).solve(rhs)
     _factorisations += 1
-    if name == "pardiso":
-        import pypardiso
-
-        return pypardiso.spsolve(matrix.tocsr(), rhs)
-    if name == "amg":
+    if name == "amg":  # cholmod and pardiso factorise through `Reuse` (their analysis kept)
         import pyamg
         from scipy.sparse.linalg import cg
 
