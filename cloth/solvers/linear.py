@@ -191,9 +191,10 @@ class Reuse:
         CHOLMOD finds it not positive definite (a preconditioner need only be near; Newton's
         projected matrix without the curvature term is PSD plus 1e-10 of its largest diagonal
         entry, so this is a safety net): s from `PRECONDITIONER_SHIFT` x that entry, 100-fold,
-        up to 1e-2 x it (beyond, the error goes up: `solve` then takes SuperLU)."""
+        up to 1e-2 x it (beyond, the error goes up: `solve` then takes SuperLU). Another
+        backend factorises ``matrix`` as it is (`_fresh`)."""
         if self.backend != "cholmod":
-            return _factor(matrix)
+            return self._fresh(matrix)
         from sksparse.cholmod import CholmodNotPositiveDefiniteError
 
         scale = float(np.abs(matrix.diagonal()).max() or 1.0)

@@ -255,8 +255,9 @@ class Problem:
             if rows.size == 0:
                 break
             distance[rows], closest[rows], normal[rows] = self.body.query(x[rows])
-        if isinstance(self.body, MeshBody):
-            again = np.flatnonzero(move)
+        if isinstance(self.body, MeshBody):  # the sliding rows still in ``rows`` were just queried
+            again = move.copy()
+            again[rows] = False
             distance[again], closest[again], normal[again] = self.body.query(x[again])
         return x, (distance, closest, normal)
 
