@@ -1,0 +1,62 @@
+"""Whether an equilibrium is stable: the inertia of Newton's matrix, by Sylvester's law.
+
+A garment at rest on the body is stable when no move its constraints allow lowers its energy
+to second order: the exact constrained Hessian P (K - sum_i lambda_i H_i) P is positive
+semi-definite on the allowed moves (P, K, lambda, H as in `cloth.solvers.newton`). Newton's
+matrix adds I - P (eigenvalue 1 along every constrained direction) and mu I (1e-10 of its
+largest diagonal entry), so its negative eigenvalues are the equilibrium's unstable modes.
+Newton converges to any stationary point, a saddle as well as a minimum (its step need only
+descend along the residual), and a residual of 1e-12 says nothing about which it found; the
+count does. Measured on the torso (docs/solvers.md, "Stability"): compressed warp springs at
+the waist make saddles on fine grids (a compressed spring's Hessian is A sigma / l < 0 across
+it: a membrane without bending stiffness buckles).
+
+The count comes from one unpivoted LU of the symmetric matrix (SuperLU in symmetric mode with
+no pivoting, `cloth.solvers.linear._factor`): Q A Q^T = L U with U = D L^T, so by Sylvester's
+law of inertia the signs of U's diagonal are those of A's eigenvalues. A factor whose rows
+SuperLU pivoted after all (it met an exact zero) is not a congruence, and is refused.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse as sp
+
+from cloth.bodies import MeshBody
+from cloth.solvers.activeset import held_nodes
+from cloth.solvers.linear import _factor, _Permuted
+from cloth.solvers.newton import newton_matrix, stiffness_at
+from cloth.solvers.problem import Evaluation, Problem
+
+
+def negative_eigenvalues(matrix: sp.spmatrix) -> int:
+    """The number of negative eigenvalues of the symmetric ``matrix`` ((n, n); its inertia's
+    negative index), from the signs of the pivots of its unpivoted LU (module docstring).
+    ValueError where the matrix is not square or the factorisation had to pivot."""
+    if matrix.ndim != 2 or matrix.shape[0] != matrix.shape[1]:
+        raise ValueError(f"expected a square (n, n) matrix, got shape {matrix.shape}")
+    factor = _factor(sp.csr_matrix(matrix))
+    lu = factor.lu if isinstance(factor, _Permuted) else factor
+    if not np.array_equal(lu.perm_r, lu.perm_c):
+        raise ValueError(
+            "SuperLU pivoted rows (an exactly zero pivot), so its pivots do not give the "
+            "inertia; shift the matrix slightly"
+        )
+    return int(np.count_nonzero(lu.U.diagonal() < 0.0))
+
+
+def unstable_modes(problem: Problem, ev: Evaluation) -> int:
+    """The unstable modes of the garment at ``ev`` (an equilibrium, or any state): the negative
+    eigenvalues of the exact Newton matrix on the moves its constraints and the body's
+    contact allow (module docstring); 0 at a stable equilibrium. Smooth bodies (closed-form,
+    the torso, the smooth surfaces of meshes) and no skin model: ValueError for faceted contact
+    (``surface: mesh``, whose constraints are face planes) or a tissue layer or friction."""
+    if isinstance(problem.body, MeshBody) or problem.lagged:
+        raise ValueError(
+            "unstable_modes takes a smooth body without tissue or friction (faceted contact and "
+            "the skin models change the constrained Hessian)"
+        )
+    k = stiffness_at(problem, ev)
+    held = held_nodes(problem, ev, k)
+    projector, _ = problem.basis(ev.x, ev.normal, held)
+    return negative_eigenvalues(newton_matrix(problem, ev, held, projector, k(False)))

@@ -1,0 +1,97 @@
+"""Unstable modes of an equilibrium (`cloth.solvers.stability`): the inertia of Newton's matrix
+from an unpivoted LU, checked against the eigenvalues of a uniformly deformed flat patch, which
+are known in closed form."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import scipy.sparse as sp
+
+from cloth.bodies import Cylinder
+from cloth.grid import FIXED, FREE, rectangle
+from cloth.solvers import linear
+from cloth.solvers.problem import Problem
+from cloth.solvers.stability import negative_eigenvalues, unstable_modes
+
+N, M, WIDTH, HEIGHT = 9, 7, 0.24, 0.18
+
+
+def patch_eigenvalues(fabric, lx: float, ly: float) -> np.ndarray:
+    """The eigenvalues (N/m) of the stiffness of an N x M patch stretched by lx along the weft
+    and ly along the warp, its edge nodes fixed, on its interior nodes' moves.
+
+    Every spring is axis-aligned, so each spring's Hessian A [(sigma'/L) d d^T + (sigma/l)
+    (I - d d^T)] is diagonal: x, y and z decouple, and each is a Dirichlet Laplacian on the
+    (N - 2) x (M - 2) interior with one coupling along the weft and one along the warp (axial or
+    across). Its eigenvalues are k_weft s_p + k_warp t_q, s_p = 2 - 2 cos(p pi / (N - 1)),
+    t_q = 2 - 2 cos(q pi / (M - 1)), p = 1..N-2, q = 1..M-2."""
+    t = fabric.thickness
+    dx, dv = WIDTH / (N - 1), HEIGHT / (M - 1)
+    ew, ev = lx - 1.0, ly - 1.0
+    area_w, area_v = t * dv, t * dx  # interior rows and columns: full tributary widths
+    axial_w = area_w * float(fabric.weft.tangent(ew)) / dx
+    across_w = area_w * float(fabric.weft.stress(ew)) / (lx * dx)
+    axial_v = area_v * float(fabric.warp.tangent(ev)) / dv
+    across_v = area_v * float(fabric.warp.stress(ev)) / (ly * dv)
+    s = 2.0 - 2.0 * np.cos(np.arange(1, N - 1) * np.pi / (N - 1))
+    q = 2.0 - 2.0 * np.cos(np.arange(1, M - 1) * np.pi / (M - 1))
+    blocks = [(axial_w, across_v), (across_w, axial_v), (across_w, across_v)]  # x, y, z
+    return np.concatenate([(a * s[:, None] + b * q[None, :]).ravel() for a, b in blocks])
+
+
+def patch_problem(fabric, lx: float, ly: float):
+    """The patch, stretched, 1 m from a thin cylinder (so no node touches it), edges fixed."""
+    grid = rectangle(N, M, WIDTH, HEIGHT, fabric)
+    u, v = grid.rest_uv.T
+    x = np.stack([1.0 + lx * u, ly * v, np.zeros_like(u)], axis=1)
+    rows, cols = np.divmod(np.arange(grid.n_nodes), N)
+    edge = (rows == 0) | (rows == M - 1) | (cols == 0) | (cols == N - 1)
+    constraint = np.where(edge, FIXED, FREE).astype(np.int8)
+    problem = Problem(grid, Cylinder(radius=0.02, bottom=-1.0, top=1.0), constraint)
+    return problem, problem.evaluate(x)
+
+
+@pytest.mark.parametrize(
+    ("lx", "ly", "expect"),
+    [
+        (1.25, 1.12, "none"),  # stretched both ways: a stable membrane
+        (1.02, 0.80, "some"),  # weft barely stretched, warp compressed: a few wrinkle modes
+        (0.97, 0.95, "many"),  # compressed both ways: every out-of-plane mode buckles
+    ],
+)
+@pytest.mark.parametrize("dissect", [False, True], ids=["mmd", "nested-dissection"])
+def test_unstable_modes_of_a_deformed_patch_are_the_closed_form_count(
+    fabric, monkeypatch, lx, ly, expect, dissect
+):
+    """A compressed spring's Hessian is A sigma / l < 0 across it: a membrane without bending
+    stiffness buckles. The count of negative pivots equals the closed form's count of negative
+    eigenvalues, in both orderings SuperLU uses."""
+    if dissect:
+        monkeypatch.setattr(linear, "DISSECT_FROM", 0)
+    eigenvalues = patch_eigenvalues(fabric, lx, ly)
+    assert np.min(np.abs(eigenvalues)) > 1e-6 * np.max(np.abs(eigenvalues))  # no near-zero one
+    negative = int(np.count_nonzero(eigenvalues < 0))
+    interior = (N - 2) * (M - 2)
+    assert {"none": negative == 0, "some": 0 < negative < interior,
+            "many": negative >= interior}[expect]  # fmt: skip
+    problem, ev = patch_problem(fabric, lx, ly)
+    assert unstable_modes(problem, ev) == negative
+
+
+def test_negative_eigenvalues_of_a_shifted_laplacian():
+    """The 1-D Dirichlet Laplacian 2 - 2 cos(k pi / (n + 1)) shifted by s has as many negative
+    eigenvalues as k with 2 - 2 cos(k pi / (n + 1)) < s."""
+    n, shift = 300, 0.7
+    laplacian = sp.diags([-1.0, 2.0, -1.0], [-1, 0, 1], shape=(n, n), format="csr")
+    eigen = 2.0 - 2.0 * np.cos(np.arange(1, n + 1) * np.pi / (n + 1))
+    matrix = (laplacian - shift * sp.identity(n)).tocsr()
+    assert negative_eigenvalues(matrix) == int(np.count_nonzero(eigen < shift)) > 0
+
+
+def test_a_factor_that_pivots_or_a_matrix_that_is_not_square_is_refused():
+    swap = sp.csr_matrix(np.array([[0.0, 1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 2.0]]))
+    with pytest.raises(ValueError, match="pivoted"):
+        negative_eigenvalues(swap)
+    with pytest.raises(ValueError, match="square"):
+        negative_eigenvalues(sp.csr_matrix(np.ones((2, 3))))
