@@ -9,7 +9,8 @@ longer than the rest together). The exponent is the least-squares slope of log t
 nodes over the grids each variant ran. Run:
 
     .venv/bin/python benchmarks/bench_scaling.py [--grids 160x80 224x112 320x160 448x224 640x320]
-        [--variants plain continuation+reuse] [--skip plain:640x320] [--no-write]
+        [--variants plain continuation+reuse] [--skip plain:640x320] [--solver superlu]
+        [--no-write]
 """
 
 from __future__ import annotations
@@ -35,6 +36,8 @@ def main() -> None:
     )
     parser.add_argument("--skip", nargs="*", default=["plain:640x320"])
     parser.add_argument("--tolerance", type=float, default=1e-8)
+    parser.add_argument("--solver", default="superlu",
+                        help="linear solver (auto: pardiso where it is installed)")  # fmt: skip
     parser.add_argument("--no-write", action="store_true", help="print, leave the docs alone")
     args = parser.parse_args()  # fmt: skip
     rows, points = [], {v: [] for v in args.variants}
@@ -45,7 +48,8 @@ def main() -> None:
                 continue
             continued, reuse = VARIANTS[variant]
             settings = Settings(tolerance=args.tolerance, max_iterations=100, progress=False,
-                                log_every=0, continuation=continued, reuse=reuse)  # fmt: skip
+                                log_every=0, continuation=continued, reuse=reuse,
+                                linear_solver=args.solver)  # fmt: skip
             reset_peak_memory()
             result = relax(state, body, settings)
             points[variant].append((n * m, result.seconds))

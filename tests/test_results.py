@@ -46,6 +46,7 @@ def test_cylinder_pressure_and_totals(cylinder):
     assert float(ds["pressure_integral"]) == pytest.approx(hoop, rel=1e-9)
     assert np.linalg.norm(ds["total_force"].values) < 1e-6 * float(ds["normal_force"])
     assert ds.attrs["converged"] == 1
+    assert ds.attrs["unstable_modes"] == 0  # a tensioned tube on a cylinder is stable
 
 
 def test_result_file_is_cf_and_round_trips(cylinder, tmp_path):

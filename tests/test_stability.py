@@ -95,3 +95,23 @@ def test_a_factor_that_pivots_or_a_matrix_that_is_not_square_is_refused():
         negative_eigenvalues(swap)
     with pytest.raises(ValueError, match="square"):
         negative_eigenvalues(sp.csr_matrix(np.ones((2, 3))))
+
+
+def test_the_result_stage_records_unstable_modes_and_warns_of_a_saddle(fabric, caplog):
+    """`stability` (the aggregate stage's `unstable_modes` attribute): the count, a warning
+    where it is not 0, none for a stable patch, and -1 where the skin models make it undefined."""
+    from dataclasses import replace
+
+    from cloth.stages.results import stability
+
+    saddle, ev = patch_problem(fabric, 0.97, 0.95)
+    with caplog.at_level("WARNING", logger="cloth.stages.results"):
+        modes = stability(saddle, ev)
+    assert modes == int(np.count_nonzero(patch_eigenvalues(fabric, 0.97, 0.95) < 0)) > 0
+    assert f"the equilibrium is a saddle: {modes} unstable modes" in caplog.text
+    caplog.clear()
+    stable, ev = patch_problem(fabric, 1.25, 1.12)
+    with caplog.at_level("WARNING", logger="cloth.stages.results"):
+        assert stability(stable, ev) == 0
+    assert "saddle" not in caplog.text
+    assert stability(replace(stable, tissue=object()), ev) == -1

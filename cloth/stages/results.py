@@ -5,6 +5,7 @@ result.nc -> figures (`figures`) and the interactive view (`view`). `cloth.aggre
 
 from __future__ import annotations
 
+import logging
 from pathlib import Path
 
 import numpy as np
@@ -18,7 +19,10 @@ from cloth.mechanics import spring_state
 from cloth.resultfile import result_dataset, summary_rows
 from cloth.skinfile import result_skin_variables
 from cloth.solvers.problem import Problem
+from cloth.solvers.stability import unstable_modes
 from cloth.statefile import read_state
+
+log = logging.getLogger(__name__)
 
 
 def aggregate(relaxed_path: str | Path) -> tuple[xr.Dataset, list]:
@@ -57,8 +61,25 @@ def aggregate(relaxed_path: str | Path) -> tuple[xr.Dataset, list]:
         )  # fmt: skip
     result = result.assign(lab_range_variables(state, ev.springs.strain))
     result = result.assign(result_skin_variables(state.grid, ev, ds, problem.tissue))
+    result.attrs["unstable_modes"] = stability(problem, ev)
     name = Path(relaxed_path).parent.name
     return result, summary_rows(result, name)
+
+
+def stability(problem: Problem, ev) -> int:
+    """The equilibrium's unstable modes (`cloth.solvers.stability.unstable_modes`; -1 where
+    they are not defined here: faceted contact, tissue, friction), with a warning where there
+    are any: the garment is balanced there but would not stay (docs/solvers.md, "Stability")."""
+    try:
+        modes = unstable_modes(problem, ev)
+    except ValueError:
+        return -1
+    if modes:
+        log.warning(
+            "the equilibrium is a saddle: %d unstable modes (compressed fabric, which buckles "
+            "without a bending stiffness; docs/solvers.md, Stability)", modes,
+        )  # fmt: skip
+    return modes
 
 
 def figures(
