@@ -108,7 +108,7 @@ def test_the_result_stage_records_unstable_modes_and_warns_of_a_saddle(fabric, c
     with caplog.at_level("WARNING", logger="cloth.stages.results"):
         modes = stability(saddle, ev)
     assert modes == int(np.count_nonzero(patch_eigenvalues(fabric, 0.97, 0.95) < 0)) > 0
-    assert f"the equilibrium is a saddle: {modes} unstable modes" in caplog.text
+    assert f"the equilibrium is a saddle: {modes} unstable modes (" in caplog.text
     caplog.clear()
     stable, ev = patch_problem(fabric, 1.25, 1.12)
     with caplog.at_level("WARNING", logger="cloth.stages.results"):

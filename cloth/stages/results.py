@@ -76,8 +76,9 @@ def stability(problem: Problem, ev) -> int:
         return -1
     if modes:
         log.warning(
-            "the equilibrium is a saddle: %d unstable modes (compressed fabric, which buckles "
+            "the equilibrium is a saddle: %d unstable mode%s (compressed fabric, which buckles "
             "without a bending stiffness; docs/solvers.md, Stability)", modes,
+            "" if modes == 1 else "s",
         )  # fmt: skip
     return modes
 
