@@ -18,7 +18,7 @@ from cloth.landmarks import girth_extrema, landmarks
 from cloth.mechanics import spring_state
 from cloth.resultfile import result_dataset, summary_rows
 from cloth.skinfile import result_skin_variables
-from cloth.solvers.problem import Problem
+from cloth.solvers.problem import Evaluation, Problem
 from cloth.solvers.stability import unstable_modes
 from cloth.statefile import read_state
 
@@ -66,13 +66,15 @@ def aggregate(relaxed_path: str | Path) -> tuple[xr.Dataset, list]:
     return result, summary_rows(result, name)
 
 
-def stability(problem: Problem, ev) -> int:
+def stability(problem: Problem, ev: Evaluation) -> int:
     """The equilibrium's unstable modes (`cloth.solvers.stability.unstable_modes`; -1 where
-    they are not defined here: faceted contact, tissue, friction), with a warning where there
-    are any: the garment is balanced there but would not stay (docs/solvers.md, "Stability")."""
+    they are not defined here: faceted contact, tissue, friction; or not found: a matrix
+    SuperLU had to pivot or found singular), with a warning where there are any: the garment
+    is balanced there but would not stay (docs/solvers.md, "Stability")."""
     try:
         modes = unstable_modes(problem, ev)
-    except ValueError:
+    except (ValueError, RuntimeError) as exc:
+        log.debug("unstable modes not counted: %s", exc)
         return -1
     if modes:
         log.warning(
