@@ -11,11 +11,13 @@ the model:
                                               coefficients and the mesh)
     runtime = 1 minute + seconds(N) / 60,   seconds(N) = reference x (N / reference_nodes)^p
 
-Measured: relax 256 / 349 / 1035 MiB at 1k / 18k / 74k nodes (197 MiB + 11.2 MiB per 1000
-nodes); predeform and aggregate 250-290 MiB at any grid. Relax's time grows as N^1.3 (the
-sparse factorisations; 147 s at 73,728 nodes with SuperLU, docs/performance.md); the other
-stages take a few seconds. The fit of a mesh body's surface (rule ``body_surface``) is bounded
-by the fit's own cap on grid samples (`cloth.bodies.surface.MAX_SAMPLES`: about 3 GiB).
+Measured: relax 247 / 398 / 1173 MiB at 1k / 18k / 74k nodes (195 MiB + 13.1 MiB per 1000
+nodes; 2026-12-01); predeform 250-290 MiB at any grid. Relax's time grows as N^1.3 (the sparse
+factorisations; 147 s at 73,728 nodes with SuperLU, docs/performance.md); aggregate factorises
+Newton's matrix once to count the equilibrium's unstable modes (`cloth.solvers.stability`):
+461 / 1,554 MiB and 1.6 / 5.5 s at 18k / 74k nodes; the other stages take a few seconds.
+The fit of a mesh body's surface (rule ``body_surface``) is bounded by the fit's own cap on
+grid samples (`cloth.bodies.surface.MAX_SAMPLES`: about 3 GiB).
 """
 
 from __future__ import annotations
@@ -30,8 +32,8 @@ MESH_MB = 1500
 #: Per stage: base MB, MB per node, seconds at REFERENCE_NODES, exponent p (module docstring).
 MODEL = {
     "predeform": (270.0, 0.002, 5.0, 1.0),
-    "relax": (215.0, 0.012, 147.0, 1.3),
-    "aggregate": (260.0, 0.002, 3.0, 1.0),
+    "relax": (215.0, 0.014, 147.0, 1.3),
+    "aggregate": (260.0, 0.019, 5.5, 1.3),
     "figures": (300.0, 0.004, 10.0, 1.0),
 }
 #: The grid the stage times were measured at (384 x 192 nodes).
