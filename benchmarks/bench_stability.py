@@ -52,9 +52,8 @@ def main() -> None:
                 continue
             continued, reuse = VARIANTS[variant]
             result = relax(state, body, replace(base, continuation=continued, reuse=reuse))
-            problem = Problem.of(state, body)
-            ev = problem.evaluate(result.final.x)
-            modes = unstable_modes(problem, ev)
+            ev = result.final  # the fine grid's last evaluation
+            modes = unstable_modes(Problem.of(state, body), ev)
             strain = ev.springs.strain
             weft, warp = (
                 strain[state.grid.family_slices[WEFT]],
