@@ -3,8 +3,8 @@ girth line inside the garment), sliding edges, on a grid given as ``"NxM"``."""
 
 from __future__ import annotations
 
-from cloth.bodies import body_from_config
-from cloth.predeform import predeform
+from cloth.files.body import body_from_config
+from cloth.stages.case import initial_state
 
 #: The benchmarks' Newton variants: name -> (continuation, reuse).
 VARIANTS = {
@@ -24,5 +24,5 @@ def torso_case(grid: str):
         "garment": {"bottom": 0.80, "top": 1.25, "reduction": 0.15, "grid": [n, m],
                     "edges": "sliding"},
     }  # fmt: skip
-    state = predeform(case)
+    state = initial_state(case)
     return n, m, state, body_from_config(state.case["body"])[0]

@@ -24,8 +24,8 @@ from _table import markdown_table, replace_section
 from _torso import torso_case
 from scipy.optimize import minimize
 
-from cloth.grid import FIXED, SLIDING
-from cloth.mechanics import energy, forces
+from cloth.garment.grid import FIXED, SLIDING
+from cloth.garment.mechanics import energy, forces
 from cloth.solvers import Settings, relax
 from cloth.solvers.problem import Problem
 

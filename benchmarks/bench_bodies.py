@@ -2,7 +2,7 @@
 
 Proximity: 10k and 100k points within +-5 mm of the surface (where garment nodes are) of a
 20k-face and a 100k-face torso mesh, for libigl (default), the numpy/scipy fallback
-(cloth.proximity) and trimesh's closest_point (on a 1k-point sample: it is slow). Writes the
+(cloth.bodies.proximity) and trimesh's closest_point (on a 1k-point sample: it is slow). Writes the
 tables into docs/performance.md (sections ``proximity`` and ``predeform``). Run:
 
     .venv/bin/python benchmarks/bench_bodies.py [--repeat 3]
@@ -20,7 +20,7 @@ from _table import markdown_table, median_seconds, replace_section
 
 from cloth.bodies import MeshBody
 from cloth.bodies.torso import chart_size, torso_mesh
-from cloth.predeform import predeform
+from cloth.stages.case import initial_state
 
 
 def near_surface(body: MeshBody, count: int, rng) -> np.ndarray:
@@ -73,7 +73,7 @@ def predeform_rows(repeat: int) -> list[list[str]]:
             "body": {"torso": {"size": "M"}},
             "garment": {"bottom": 0.86, "top": 1.22, "reduction": 0.15, "grid": [n, m]},
         }
-        t = median_seconds(lambda: predeform(case), repeat)
+        t = median_seconds(lambda: initial_state(case), repeat)
         rows.append([f"{n} x {m}", f"{n * m:,}", f"{t:.2f}"])
         print(rows[-1], flush=True)
     return rows

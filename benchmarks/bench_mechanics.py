@@ -17,9 +17,9 @@ import numpy as np
 import scipy.sparse as sp
 from _table import markdown_table, median_seconds, replace_section
 
-from cloth.grid import build_grid
-from cloth.materials import Fabric, StressStrainCurve
-from cloth.mechanics import forces, spring_forces, spring_state, stiffness
+from cloth.garment.grid import build_grid
+from cloth.garment.mechanics import forces, spring_forces, spring_state, stiffness
+from cloth.materials.curves import Fabric, StressStrainCurve
 
 
 def fabric() -> Fabric:

@@ -18,7 +18,7 @@ import platform
 import numpy as np
 from _table import markdown_table, median_seconds, replace_section
 
-from cloth.bodies import body_from_config
+from cloth.files.body import body_from_config
 
 
 def near_torso(body, count: int, rng: np.random.Generator) -> np.ndarray:

@@ -19,10 +19,10 @@ import platform
 
 from _table import markdown_table, replace_section
 
-from cloth.bodies import body_from_config
-from cloth.predeform import predeform
+from cloth.files.body import body_from_config
 from cloth.solvers import Settings, relax
 from cloth.solvers.linear import available
+from cloth.stages.case import initial_state
 
 
 def seconds_to(result, level: float) -> str:
@@ -35,7 +35,7 @@ def seconds_to(result, level: float) -> str:
 
 
 def run(case: dict, method: str, solver: str, iterations: int):
-    state = predeform(case)
+    state = initial_state(case)
     body, _ = body_from_config(state.case["body"])
     settings = Settings(
         method=method, tolerance=1e-8, max_iterations=iterations, linear_solver=solver,

@@ -1,8 +1,8 @@
 """Peak memory and wall time of the per-case stages against the grid: the data behind
-`cloth.resources` (what a cluster job asks for).
+`cloth.pipeline.resources` (what a cluster job asks for).
 
 Each stage runs as its own `cloth` process (as a Snakemake job does), and its peak resident
-memory is the process's own VmHWM (`cloth.resources.measure_stage`). Case: power net on the
+memory is the process's own VmHWM (`cloth.pipeline.resources.measure_stage`). Case: power net on the
 smooth torso M (the default body), 0.80-1.25 m, reduction 0.15, Newton to 1e-8. Writes
 docs/performance.md (section ``resources``) and prints the fitted model next to the estimate.
 Run (minutes; the largest grid dominates):
@@ -21,7 +21,7 @@ import numpy as np
 import yaml
 from _table import markdown_table, replace_section
 
-from cloth.resources import measure_stage, stage_resources
+from cloth.pipeline.resources import measure_stage, stage_resources
 
 
 def main() -> None:

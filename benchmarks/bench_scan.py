@@ -27,10 +27,10 @@ from _torso import VARIANTS
 from bench_relax import seconds_to
 from validation_scans import write_obj
 
-from cloth.bodies import body_from_config
 from cloth.bodies.torso import chart_size, torso_mesh
-from cloth.predeform import predeform
+from cloth.files.body import body_from_config
 from cloth.solvers import Settings, relax
+from cloth.stages.case import initial_state
 
 
 def main() -> None:
@@ -60,7 +60,7 @@ def main() -> None:
                             "edges": "sliding"},
             }  # fmt: skip
             start = time.perf_counter()
-            state = predeform(case)
+            state = initial_state(case)
             body, _ = body_from_config(state.case["body"])
             prepared = time.perf_counter() - start
             settings = Settings(

@@ -24,7 +24,7 @@ import numpy as np
 from _table import markdown_table, replace_section
 from _torso import VARIANTS, torso_case
 
-from cloth.grid import WARP, WEFT
+from cloth.garment.grid import WARP, WEFT
 from cloth.solvers import Settings, relax
 from cloth.solvers.problem import Problem
 from cloth.solvers.stability import unstable_modes

@@ -24,7 +24,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from cloth.io import atomic_output
-from cloth.pressure import MMHG
+from cloth.results.pressure import MMHG
 from tests.conftest import capped_cylinder, write_obj
 from tests.test_relax import hoop_tension, pressure, solve, tube
 

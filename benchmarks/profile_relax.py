@@ -29,7 +29,7 @@ PARTS = {
     "Newton step (all of it)": [("solvers/newton.py", "newton_step")],
     "evaluations (springs, forces, contact)": [("solvers/problem.py", "evaluate")],
     "contact queries (wherever called)": [("bodies/implicit.py", "query")],
-    "stiffness (springs' Hessian blocks)": [("cloth/mechanics.py", "stiffness")],
+    "stiffness (springs' Hessian blocks)": [("cloth/garment/mechanics.py", "stiffness")],
     "the Newton matrix (projection, contact)": [("solvers/newton.py", "newton_matrix")],
     "factorisation (SuperLU)": [("solvers/linear.py", "_factor")],
     "of which the ordering (once per grid)": [("solvers/ordering.py", "dof_permutation")],

@@ -32,13 +32,13 @@ from pathlib import Path
 import numpy as np
 from _table import markdown_table, replace_section
 
-from cloth.aggregate import node_fields
-from cloth.bodies import body_from_config
 from cloth.bodies.torso import LANDMARKS, chart_size, torso_mesh
-from cloth.landmarks import landmarks
-from cloth.predeform import predeform
-from cloth.pressure import MMHG
+from cloth.files.body import body_from_config
+from cloth.results.fields import node_fields
+from cloth.results.landmarks import landmarks
+from cloth.results.pressure import MMHG
 from cloth.solvers import Settings, relax
+from cloth.stages.case import initial_state
 
 DOC = Path(__file__).resolve().parents[1] / "docs" / "validation.md"
 GARMENT = {"bottom": 0.80, "top": 1.25, "reduction": 0.15, "edges": "sliding"}
@@ -57,7 +57,7 @@ def run(body: dict, grid: tuple[int, int], mesh=None) -> dict:
     case = {"material": "powernet", "body": body, "landmarks": heights,
             "garment": {**GARMENT, "grid": list(grid)}}  # fmt: skip
     start = time.perf_counter()
-    state = predeform(case)
+    state = initial_state(case)
     solid, _ = body_from_config(state.case["body"])
     settings = Settings(tolerance=1e-8, max_iterations=150, progress=False, log_every=0)
     result = relax(state, solid, settings)

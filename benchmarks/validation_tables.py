@@ -15,10 +15,12 @@ from pathlib import Path
 import numpy as np
 from _table import markdown_table, replace_section
 
-from cloth.bodies import EllipticCylinder, body_from_config
-from cloth.predeform import predeform
-from cloth.pressure import MMHG, contact_reaction, node_area
+from cloth.bodies import EllipticCylinder
+from cloth.files.body import body_from_config
+from cloth.garment.grid import node_area
+from cloth.results.pressure import MMHG, contact_reaction
 from cloth.solvers import Settings, relax
+from cloth.stages.case import initial_state
 
 DOC = Path(__file__).resolve().parents[1] / "docs" / "validation.md"
 
@@ -29,7 +31,7 @@ def solve(body: dict, reduction: float, n: int, around: str = "weft"):
         "garment": {"bottom": 0.1, "top": 0.4, "reduction": reduction, "grid": [n, 6],
                     "edges": "sliding", "around": around},
     }  # fmt: skip
-    state = predeform(case)
+    state = initial_state(case)
     solid, _ = body_from_config(state.case["body"])
     result = relax(state, solid, Settings(tolerance=1e-10, max_iterations=60, progress=False))
     ev = result.final
@@ -96,8 +98,8 @@ def cone_table() -> str:
     the warp stretched too: the Laplace diagnostic and the edge rows' shares."""
     import tempfile
 
+    from cloth.files.relaxed import Relaxation, relaxed_dataset
     from cloth.io import write_netcdf
-    from cloth.relaxfile import Relaxation, relaxed_dataset
     from cloth.stages import aggregate
 
     rows = []
@@ -113,7 +115,7 @@ def cone_table() -> str:
                 "garment": {"bottom": bottom, "top": top, "reduction": 0.15, "grid": [64, 8],
                             "edges": "sliding", "lengthwise_reduction": lengthwise},
             }  # fmt: skip
-            state = predeform(case)
+            state = initial_state(case)
             solid, _ = body_from_config(state.case["body"])
             settings = Settings(tolerance=1e-10, max_iterations=60, progress=False)
             result = relax(state, solid, settings)

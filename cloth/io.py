@@ -17,6 +17,7 @@ import sys
 import tempfile
 from collections.abc import Iterator, Mapping
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import xarray as xr
@@ -164,3 +165,33 @@ def read_netcdf(path: str | Path, kind: str, required: tuple[str, ...] = ()) -> 
             missing[0],
         )
     return ds
+
+
+def resolve(path: str, base_dir: str | Path) -> Path:
+    """A path from a case, relative to ``base_dir`` unless absolute."""
+    candidate = Path(path).expanduser()
+    return candidate if candidate.is_absolute() else Path(base_dir) / candidate
+
+
+def variable(dims, values, units: str | None, long_name: str, **attrs: Any) -> xr.Variable:
+    """A CF variable: ``values`` along ``dims`` with its ``units`` (None for one without, such
+    as labels) and ``long_name``, plus ``attrs``. The project's one way to make one."""
+    base = {"long_name": long_name} if units is None else {"units": units, "long_name": long_name}
+    return xr.Variable(dims, values, {**base, **attrs})
+
+
+def node_variable(
+    shape: tuple[int, int], values, units: str, long_name: str, **attrs: Any
+) -> xr.Variable:
+    """A per-node CF variable on dims (``row``, ``col``): ``values`` ((rows * cols,) or
+    (rows, cols)) reshaped to ``shape`` = (rows, cols), i.e. (grid.m, grid.n)."""
+    return variable(("row", "col"), np.asarray(values).reshape(shape), units, long_name, **attrs)
+
+
+def flag_variable(dims, values, long_name: str, meanings: str) -> xr.Variable:
+    """A CF flag variable: int8 ``values`` 0, 1, ... meaning the words of ``meanings``."""
+    count = len(meanings.split())
+    return variable(
+        dims, values, "1", long_name,
+        flag_values=np.arange(count, dtype=np.int8), flag_meanings=meanings,
+    )  # fmt: skip

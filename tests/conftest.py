@@ -10,7 +10,7 @@ import pytest
 
 matplotlib.use("Agg")
 
-from cloth.materials import Fabric, StressStrainCurve
+from cloth.materials.curves import Fabric, StressStrainCurve
 
 
 def make_fabric(thickness: float = 5.0e-4) -> Fabric:

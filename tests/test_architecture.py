@@ -1,5 +1,6 @@
-"""The package's shape: imports flow one way (no cycles, also through imports inside
-functions), and every module stays small enough to hold one concept."""
+"""The package's shape: imports flow one way down the wings (no cycle and no climb, at module and
+at package level, also through imports inside functions), every module stays small enough to
+hold one concept, and a module's header says what it depends on."""
 
 from __future__ import annotations
 
@@ -9,6 +10,14 @@ from pathlib import Path
 PACKAGE = Path(__file__).resolve().parents[1] / "cloth"
 #: Most lines a module of cloth/ may have (docs/architecture.md).
 MAX_LINES = 400
+#: The wings, top to bottom: a module may import its own wing and the wings below it, never one
+#: above (docs/architecture.md). "" is the ground floor: cloth itself, errors, io, progress.
+ORDER = (
+    "cli", "stages", "pipeline", "files", "figures", "results", "solvers", "contact", "garment",
+    "bodies", "materials", "",
+)  # fmt: skip
+#: Modules outside the order: ``python -m cloth`` is the command line itself.
+TOP = {"cloth.__main__": "cli"}
 
 
 def _modules() -> dict[str, Path]:
@@ -86,6 +95,75 @@ def cycles(graph: dict[str, set[str]]) -> list[list[str]]:
     return found
 
 
+def wing(module: str) -> str:
+    """The wing of a cloth module: its sub-package, or "" for the ground floor."""
+    if module in TOP:
+        return TOP[module]
+    parts = module.split(".")
+    return parts[1] if len(parts) > 2 or (len(parts) == 2 and parts[1] in ORDER) else ""
+
+
+def climbs(graph: dict[str, set[str]]) -> list[str]:
+    """Every import that climbs the wings' order, as 'importer -> imported'."""
+    rank = {name: i for i, name in enumerate(ORDER)}
+    return [
+        f"{module} -> {dep}"
+        for module, deps in sorted(graph.items())
+        for dep in sorted(deps)
+        if rank[wing(dep)] < rank[wing(module)]
+    ]
+
+
+def package_graph(graph: dict[str, set[str]]) -> dict[str, set[str]]:
+    """The wings' graph: wing -> the other wings its modules import (anywhere in their text)."""
+    wings: dict[str, set[str]] = {name: set() for name in ORDER}
+    for module, deps in graph.items():
+        wings[wing(module)].update(wing(dep) for dep in deps if wing(dep) != wing(module))
+    return wings
+
+
+def hidden_imports() -> list[str]:
+    """Imports of cloth inside a function without a comment on their line saying why."""
+    found = []
+    for name, path in _modules().items():
+        lines = path.read_text().splitlines()
+        for node in ast.walk(ast.parse("\n".join(lines))):
+            if not isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef):
+                continue
+            for sub in ast.walk(node):
+                names = (
+                    [sub.module or ""] if isinstance(sub, ast.ImportFrom)
+                    else [a.name for a in sub.names] if isinstance(sub, ast.Import) else []
+                )  # fmt: skip
+                if any(n.split(".")[0] == "cloth" for n in names) and "#" not in "".join(
+                    lines[sub.lineno - 1 : sub.end_lineno]
+                ):
+                    found.append(f"{name}:{sub.lineno}")
+    return found
+
+
+def test_the_order_checks_find_a_climb_and_a_package_loop():
+    graph = {"cloth.garment.grid": {"cloth.files.state"}, "cloth.files.state": {"cloth.io"}}
+    assert climbs(graph) == ["cloth.garment.grid -> cloth.files.state"]
+    assert climbs({"cloth.files.state": {"cloth.garment.grid", "cloth.errors"}}) == []
+    # modules without a cycle between them, wings with one: bodies.a -> figures.b -> bodies.c
+    loop = {"cloth.bodies.a": {"cloth.figures.b"}, "cloth.figures.b": {"cloth.bodies.c"},
+            "cloth.bodies.c": set()}  # fmt: skip
+    assert cycles(loop) == [] and cycles(package_graph(loop)) == [["bodies", "figures"]]
+    assert wing("cloth.errors") == "" and wing("cloth") == "" and wing("cloth.solvers") == "solvers"
+
+
+def test_no_import_climbs_the_wings():
+    graph = import_graph()
+    assert set(map(wing, graph)) <= set(ORDER), "a module outside the wings: add it to ORDER"
+    assert climbs(graph) == []
+    assert cycles(package_graph(graph)) == []
+
+
+def test_imports_of_cloth_are_at_module_level():
+    assert hidden_imports() == []
+
+
 def test_the_cycle_finder_finds_a_cycle():
     graph = {"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}, "e": set()}
     assert cycles(graph) == [["a", "b", "c"]]
@@ -97,7 +175,7 @@ def test_the_imports_of_cloth_have_no_cycle():
     assert graph["cloth.cli.parser"] >= {"cloth.cli.handlers"}  # the walk sees imports
     assert "cloth.stages.results" in graph["cloth.cli.handlers"] or (
         "cloth.stages" in graph["cloth.cli.handlers"]
-    )  # and those inside functions
+    )
     assert cycles(graph) == []
 
 

@@ -5,9 +5,9 @@ from __future__ import annotations
 import numpy as np
 from scipy.optimize import nnls
 
-from cloth import contact
 from cloth.bodies import MeshBody
 from cloth.bodies.torso import chart_size, torso_mesh
+from cloth.contact import polyhedral as contact
 from cloth.solvers.newton import _plane_constraints
 
 

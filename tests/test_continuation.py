@@ -5,11 +5,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from cloth.bodies import body_from_config
-from cloth.grid import WARP, WEFT
-from cloth.predeform import predeform
+from cloth.files.body import body_from_config
+from cloth.garment.grid import WARP, WEFT
 from cloth.solvers import Settings, relax
 from cloth.solvers.continuation import coarse_state, levels
+from cloth.stages.case import initial_state
 from tests.conftest import assert_quadratic_tail
 
 TORSO = {"torso": {"size": "M"}}
@@ -18,7 +18,7 @@ ELLIPSE = {"elliptic_cylinder": {"a": 0.15, "b": 0.10, "bottom": 0.0, "top": 0.5
 
 def state_on(body: dict, grid: list[int], bottom: float, top: float):
     garment = {"bottom": bottom, "top": top, "reduction": 0.15, "grid": grid, "edges": "sliding"}
-    return predeform({"material": "powernet", "body": body, "garment": garment})
+    return initial_state({"material": "powernet", "body": body, "garment": garment})
 
 
 def test_a_coarse_level_is_the_same_pattern():

@@ -9,7 +9,7 @@ from hypothesis import strategies as st
 from scipy.integrate import quad
 
 from cloth.errors import InputError
-from cloth.materials import COMPRESSION_RATIO, Fabric, StressStrainCurve
+from cloth.materials.curves import COMPRESSION_RATIO, Fabric, StressStrainCurve
 
 CURVE = StressStrainCurve([0.0, 0.2, 0.5, 1.0], [0.0, 1.0e5, 2.0e5, 8.0e5])
 

@@ -11,7 +11,7 @@ from cloth.bodies.denoise import denoise, is_noisy
 from cloth.bodies.mesh import MeshBody
 from cloth.bodies.refine import NOISE_RATIO
 from cloth.bodies.surface import FitOptions, fit_surface
-from cloth.bodies.surfacefile import smooth_body
+from cloth.files.surface import smooth_body
 from tests.conftest import capped_cylinder
 
 R = 0.1

@@ -5,17 +5,17 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from cloth.bodies import body_from_config
+from cloth.contact.friction import Friction
 from cloth.errors import InputError
-from cloth.friction import Friction
-from cloth.grid import FIXED, FREE, WEFT, build_grid
-from cloth.materials import Fabric, StressStrainCurve
-from cloth.predeform import predeform
-from cloth.pressure import contact_reaction, node_area
+from cloth.files.body import body_from_config
+from cloth.garment.grid import FIXED, FREE, WEFT, build_grid, node_area
+from cloth.garment.state import State
+from cloth.materials.curves import Fabric, StressStrainCurve
+from cloth.results.pressure import contact_reaction
 from cloth.solvers import Settings, relax
 from cloth.solvers.newton import stiffness_at
 from cloth.solvers.problem import Problem
-from cloth.statefile import State
+from cloth.stages.case import initial_state
 
 RADIUS, HEIGHT, WIDTH = 0.1, 0.2, 0.01
 CYLINDER = {"cylinder": {"radius": RADIUS, "bottom": 0.0, "top": 0.5}}
@@ -97,8 +97,8 @@ def test_zero_friction_is_the_frictionless_solver_bit_for_bit():
     case = {"material": "powernet", "body": CYLINDER,
             "garment": {"bottom": 0.1, "top": 0.4, "reduction": 0.2, "grid": [24, 4]}}  # fmt: skip
     body, _ = body_from_config(CYLINDER)
-    plain = relax(predeform(case), body, SETTINGS)
-    zero = relax(predeform({**case, "contact": {"friction": 0.0}}), body, SETTINGS)
+    plain = relax(initial_state(case), body, SETTINGS)
+    zero = relax(initial_state({**case, "contact": {"friction": 0.0}}), body, SETTINGS)
     np.testing.assert_array_equal(zero.final.x, plain.final.x)
     assert zero.lags == 0 and zero.history.residual == plain.history.residual
 
@@ -115,10 +115,10 @@ def test_friction_leaves_laplaces_pressure_on_a_cylinder():
         reaction = contact_reaction(ev.forces, ev.unbalanced, ev.on_body)
         return np.linalg.norm(reaction, axis=1) / node_area(ev.x, state.grid)
 
-    state = predeform(case)
+    state = initial_state(case)
     frictionless = pressure(relax(state, body, SETTINGS))
     for mu in (0.3, 0.9):
-        result = relax(predeform({**case, "contact": {"friction": mu}}), body, SETTINGS)
+        result = relax(initial_state({**case, "contact": {"friction": mu}}), body, SETTINGS)
         assert result.converged
         np.testing.assert_allclose(pressure(result), frictionless, rtol=1e-6)
         assert np.abs(result.friction["force"]).max() < 1e-5 * result.final.typical
@@ -161,7 +161,7 @@ def test_bad_friction_is_refused_naming_the_field(contact, field):
             "garment": {"bottom": 0.1, "top": 0.4, "reduction": 0.2, "grid": [12, 3]}}  # fmt: skip
     body, _ = body_from_config(CYLINDER)
     with pytest.raises(InputError) as error:
-        relax(predeform(case), body, SETTINGS)
+        relax(initial_state(case), body, SETTINGS)
     assert error.value.field == field
 
 
@@ -169,7 +169,7 @@ def test_friction_needs_newton_and_the_wrap_as_its_path():
     case = {"material": "powernet", "body": CYLINDER, "contact": {"friction": 0.3},
             "garment": {"bottom": 0.1, "top": 0.4, "reduction": 0.2, "grid": [12, 3]}}  # fmt: skip
     body, _ = body_from_config(CYLINDER)
-    state = predeform(case)
+    state = initial_state(case)
     with pytest.raises(InputError, match="newton"):
         relax(state, body, Settings(method="explicit", progress=False))
     with pytest.raises(InputError, match="path"):

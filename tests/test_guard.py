@@ -9,11 +9,11 @@ from pathlib import Path
 import pytest
 import yaml
 
-import cloth.guard
-import cloth.predeform
+import cloth.pipeline.guard
+import cloth.stages.case
 from cloth.cli import main
-from cloth.guard import BYTES_PER_FACE, check_fits, estimate, free_memory_mb, mesh_faces
-from cloth.resources import MODEL
+from cloth.pipeline.guard import BYTES_PER_FACE, check_fits, estimate, free_memory_mb, mesh_faces
+from cloth.pipeline.resources import MODEL
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -36,7 +36,7 @@ def no_work(monkeypatch):
     def refuse(*args, **kwargs):
         raise AssertionError("predeform started")
 
-    monkeypatch.setattr(cloth.predeform, "predeform", refuse)
+    monkeypatch.setattr(cloth.stages.case, "predeform", refuse)
 
 
 def _one_line(capsys):
@@ -72,7 +72,7 @@ def test_a_hundred_million_face_mesh_is_refused_from_its_header(tmp_path, capsys
 
 
 def test_force_runs_what_the_estimate_would_refuse(tmp_path, capsys, monkeypatch):
-    monkeypatch.setattr(cloth.guard, "free_memory_mb", lambda: 10.0)  # a machine of 10 MB
+    monkeypatch.setattr(cloth.pipeline.guard, "free_memory_mb", lambda: 10.0)  # a machine of 10 MB
     case = _case(tmp_path, [24, 6])
     args = ["predeform", str(case), "--base-dir", str(ROOT)]
     assert main([*args, "-o", str(tmp_path / "a.nc")]) == 2
@@ -136,7 +136,8 @@ def test_long_work_off_a_terminal_reports_in_log_lines(caplog):
 def test_a_large_predeform_off_a_terminal_logs_its_progress(caplog):
     import logging
 
-    from cloth.predeform import PROGRESS_NODES, predeform
+    from cloth.garment.predeform import PROGRESS_NODES
+    from cloth.stages.case import initial_state
 
     n, m = 400, 130  # 52,000 nodes: above the progress threshold
     assert n * m > PROGRESS_NODES
@@ -146,6 +147,6 @@ def test_a_large_predeform_off_a_terminal_logs_its_progress(caplog):
         "garment": {"bottom": 0.1, "top": 0.4, "reduction": 0.2, "grid": [n, m]},
     }
     with caplog.at_level(logging.INFO, logger="cloth.progress"):
-        state = predeform(case)
+        state = initial_state(case)
     assert state.x.shape == (n * m, 3)
     assert any(r.getMessage().startswith("predeform: row sections: 100 %") for r in caplog.records)

@@ -9,10 +9,10 @@ import pytest
 import xarray as xr
 
 from cloth.cli import main
-from cloth.fitting import fit_monotone
-from cloth.labtables import IngestOptions, ingest
-from cloth.materialfile import fabric_from_dataset, material_dataset
-from cloth.materials import StressStrainCurve
+from cloth.files.material import fabric_from_dataset, material_dataset
+from cloth.materials.curves import StressStrainCurve
+from cloth.materials.fitting import fit_monotone
+from cloth.materials.labtables import IngestOptions, ingest
 
 ROOT = Path(__file__).resolve().parents[1]
 TRUE = StressStrainCurve([0.0, 0.1, 0.35, 0.6, 0.8], [0.0, 0.08e6, 0.5e6, 1.3e6, 2.4e6])

@@ -123,7 +123,7 @@ def test_cholmod_with_reuse_reaches_superlus_equilibrium():
     SuperLU Newton ends, with fewer factorisations than CHOLMOD without reuse (torso 96 x 48,
     measured 22 and 10)."""
     pytest.importorskip("sksparse")
-    from cloth.bodies import body_from_config
+    from cloth.files.body import body_from_config
     from cloth.solvers import Settings, relax
     from tests.test_continuation import state_on
 
@@ -173,14 +173,14 @@ def test_newton_on_cholmod_keeps_the_exact_hessians_quadratic_convergence(caplog
     SuperLU's does: quadratically, in as many iterations (+1), to the same equilibrium, and
     never falls back to SuperLU."""
     pytest.importorskip("sksparse")
-    from cloth.bodies import body_from_config
-    from cloth.predeform import predeform
+    from cloth.files.body import body_from_config
     from cloth.solvers import Settings, relax
+    from cloth.stages.case import initial_state
     from tests.conftest import assert_quadratic_tail
 
     garment = {"bottom": 0.80, "top": 1.25, "reduction": 0.25, "grid": [48, 24],
                "edges": "sliding"}  # fmt: skip
-    state = predeform({"material": "powernet", "body": {"torso": {"size": "S"}},
+    state = initial_state({"material": "powernet", "body": {"torso": {"size": "S"}},
                        "garment": garment})  # fmt: skip
     solid, _ = body_from_config(state.case["body"])
     results = {}

@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from cloth.grid import build_grid
-from cloth.mechanics import energy, forces, spring_state, stiffness
+from cloth.garment.grid import build_grid
+from cloth.garment.mechanics import energy, forces, spring_state, stiffness
 
 
 def random_configuration(fabric, kind, seed, closed=False):

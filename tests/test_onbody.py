@@ -8,7 +8,7 @@ import pytest
 from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
 from cloth.bodies.torso import chart_size, torso_mesh
-from cloth.onbody import (
+from cloth.figures.onbody import (
     FIELDS,
     VIEWS,
     body_band,
@@ -17,10 +17,10 @@ from cloth.onbody import (
     shared_ranges,
     visible_quads,
 )
-from cloth.plots import FIGURES
-from cloth.predeform import predeform
-from cloth.pressure import MMHG
+from cloth.figures.plots import FIGURES
+from cloth.results.pressure import MMHG
 from cloth.stages import aggregate
+from cloth.stages.case import initial_state
 from tests.conftest import write_obj
 from tests.test_relax import solve
 from tests.test_results import relaxed_file
@@ -46,7 +46,7 @@ def result(request, tmp_path_factory):
         "garment": {"bottom": bottom, "top": top, "reduction": 0.15, "grid": [32, 6],
                     "edges": "sliding"},
     }  # fmt: skip
-    state = predeform(case, tmp)
+    state = initial_state(case, tmp)
     iterations = 8 if request.param == "mesh" else 60  # faceted: converged or not, it draws
     path = relaxed_file(tmp, state, solve(state, tolerance=1e-8, iterations=iterations))
     return request.param, aggregate(path)[0]

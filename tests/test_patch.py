@@ -7,8 +7,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from cloth.grid import WARP, WEFT, build_grid, rectangle
-from cloth.mechanics import forces, spring_state
+from cloth.garment.grid import WARP, WEFT, build_grid, rectangle
+from cloth.garment.mechanics import forces, spring_state
 
 WIDTH, HEIGHT = 0.30, 0.20
 

@@ -10,7 +10,14 @@ import pytest
 import yaml
 
 from cloth.errors import InputError
-from cloth.plan import body_files, data_path, local_body, make_plan, reduction_tag, sweep_name
+from cloth.pipeline.plan import (
+    body_files,
+    data_path,
+    local_body,
+    make_plan,
+    reduction_tag,
+    sweep_name,
+)
 
 ROOT = Path(__file__).resolve().parents[1]
 CONFIG = yaml.safe_load((ROOT / "config/config.yaml").read_text())

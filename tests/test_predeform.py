@@ -15,11 +15,11 @@ from scipy.spatial import ConvexHull
 from cloth.bodies import EllipticCylinder
 from cloth.bodies.torso import chart_size, torso_mesh
 from cloth.cli import main
-from cloth.grid import FIXED, FREE, SLIDING, WARP, WEFT
+from cloth.files.state import read_state, state_dataset
+from cloth.garment.grid import FIXED, FREE, SLIDING, WARP, WEFT
+from cloth.garment.mechanics import spring_state
 from cloth.io import write_netcdf
-from cloth.mechanics import spring_state
-from cloth.predeform import predeform
-from cloth.statefile import read_state, state_dataset
+from cloth.stages.case import initial_state
 from tests.conftest import write_obj
 
 OFFSET = 1e-4
@@ -37,7 +37,7 @@ def case(**garment):
 
 
 def test_cylinder_wrap_is_exact():
-    state = predeform(case())
+    state = initial_state(case())
     grid, n, m = state.grid, 64, 6
     r = np.hypot(state.x[:, 0], state.x[:, 1])
     np.testing.assert_allclose(r, 0.1 + OFFSET, atol=1e-12)
@@ -68,8 +68,8 @@ def test_wrapped_nodes_start_on_or_just_outside(body):
     c["body"] = body
     if "torso" in body:
         c["garment"].update(bottom=0.88, top=1.2)
-    state = predeform(c)
-    from cloth.bodies import body_from_config
+    state = initial_state(c)
+    from cloth.files.body import body_from_config
 
     solid, _ = body_from_config(state.case["body"])
     distance = solid.query(state.x)[0]
@@ -90,14 +90,14 @@ def test_wrapped_nodes_start_on_or_just_outside(body):
 def test_elliptic_rows_have_the_ellipse_girth():
     c = case(grid=[128, 3])
     c["body"] = {"elliptic_cylinder": {"a": 0.15, "b": 0.10}}
-    state = predeform(c)
+    state = initial_state(c)
     girth = EllipticCylinder(0.15, 0.10).girth(0.2)[0]
     rest = state.grid.rest_length[state.grid.family_slices[WEFT]].reshape(3, 128).sum(axis=1)
     np.testing.assert_allclose(rest, 0.8 * girth, rtol=1e-12)
 
 
 def test_state_file_round_trip(tmp_path):
-    state = predeform(case(shear_modulus=1e4))
+    state = initial_state(case(shear_modulus=1e4))
     path = write_netcdf(state_dataset(state, "initial"), tmp_path / "initial.nc")
     again, ds = read_state(path, "initial")
     np.testing.assert_array_equal(again.x, state.x)
@@ -110,7 +110,7 @@ def test_state_file_round_trip(tmp_path):
     for flag in ("constraint", "contact", "spring_family"):
         assert len(ds[flag].attrs["flag_values"]) == len(ds[flag].attrs["flag_meanings"].split())
     x = np.random.default_rng(0).normal(scale=1e-3, size=state.x.shape) + state.x
-    from cloth.mechanics import forces
+    from cloth.garment.mechanics import forces
 
     np.testing.assert_array_equal(forces(x, again.grid), forces(x, state.grid))
 
@@ -124,7 +124,7 @@ def test_units_and_axes_give_identical_initial_positions(tmp_path):
     for name, units, up in (("m.obj", "m", "z"), ("mm.obj", "mm", "y")):
         c = case(bottom=0.9, top=1.15, grid=[32, 4])
         c["body"] = {"mesh": name, "units": units, "up": up}
-        results.append(predeform(c, tmp_path).x)
+        results.append(initial_state(c, tmp_path).x)
     np.testing.assert_allclose(results[0], results[1], rtol=0, atol=1e-9)
 
 

@@ -8,13 +8,14 @@ import itertools
 import numpy as np
 import pytest
 
-from cloth.bodies import EllipticCylinder, body_from_config
-from cloth.grid import FIXED, WEFT
-from cloth.predeform import predeform
-from cloth.pressure import contact_reaction, node_area
+from cloth.bodies import EllipticCylinder
+from cloth.files.body import body_from_config
+from cloth.garment.grid import FIXED, WEFT, node_area
+from cloth.results.pressure import contact_reaction
 from cloth.solvers import Settings, relax
 from cloth.solvers.newton import _direction, stiffness_at
 from cloth.solvers.problem import Problem, turning_gauge
+from cloth.stages.case import initial_state
 
 THICKNESS = 0.55e-3  # the example fabric's
 
@@ -28,7 +29,7 @@ def tube(body, reduction, n=64, m=6, around="weft"):
             "edges": "sliding", "around": around,
         },
     }  # fmt: skip
-    return predeform(case)
+    return initial_state(case)
 
 
 def solve(state, method="newton", tolerance=1e-10, iterations=60):
@@ -179,8 +180,8 @@ def test_relax_cli_and_bad_input(tmp_path, capsys):
     import xarray as xr
 
     from cloth.cli import main
+    from cloth.files.state import state_dataset
     from cloth.io import write_netcdf
-    from cloth.statefile import state_dataset
 
     state = tube({"cylinder": {"radius": 0.1, "bottom": 0.0, "top": 0.5}}, 0.2, n=24, m=3)
     initial = write_netcdf(state_dataset(state, "initial"), tmp_path / "initial.nc")
@@ -227,7 +228,7 @@ def test_newton_converges_on_a_faceted_torso():
         "body": {"torso": {"size": "M", "surface": "mesh", "around": 64, "rings": 40}},
         "garment": {"bottom": 0.9, "top": 1.15, "reduction": 0.15, "grid": [32, 12]},
     }
-    state = predeform(case)
+    state = initial_state(case)
     result = solve(state, tolerance=1e-8, iterations=60)
     assert result.converged and result.history.residual[-1] <= 1e-8
     assert max(result.history.penetration) <= 1e-6
@@ -315,7 +316,7 @@ def test_factorisations_and_peak_memory_are_recorded(monkeypatch):
     """Every linear system a run factorises is counted (here against a count of the backend's
     calls), at least one per Newton iteration, and relaxed.nc records the count and the peak
     memory."""
-    from cloth.relaxfile import Relaxation, relaxed_dataset
+    from cloth.files.relaxed import Relaxation, relaxed_dataset
     from cloth.solvers import linear
 
     calls = []

@@ -1,4 +1,4 @@
-"""What a case's cluster jobs ask for (cloth/resources.py) covers what they use."""
+"""What a case's cluster jobs ask for (cloth/pipeline/resources.py) covers what they use."""
 
 from __future__ import annotations
 
@@ -6,7 +6,7 @@ import sys
 
 import yaml
 
-from cloth.resources import measure_stage, stage_resources
+from cloth.pipeline.resources import measure_stage, stage_resources
 from tests.pipeline import ROOT
 
 

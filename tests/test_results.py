@@ -6,18 +6,18 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from cloth.aggregate import node_fields
 from cloth.cli import main
-from cloth.grid import rectangle
+from cloth.garment.grid import rectangle
+from cloth.garment.mechanics import spring_state
 from cloth.io import write_netcdf
-from cloth.mechanics import spring_state
-from cloth.pressure import MMHG, comfort_group, ral_class
+from cloth.results.fields import node_fields
+from cloth.results.pressure import MMHG, comfort_group, ral_class
 from cloth.stages import aggregate
 from tests.test_relax import THICKNESS, solve, tube
 
 
 def relaxed_file(tmp_path, state, result, settings_tol=1e-10):
-    from cloth.relaxfile import Relaxation, relaxed_dataset
+    from cloth.files.relaxed import Relaxation, relaxed_dataset
     from cloth.solvers import Settings
 
     ds = relaxed_dataset(state, Relaxation.of(result, Settings(tolerance=settings_tol)))
@@ -88,7 +88,7 @@ def test_elliptic_laplace_diagnostic(tmp_path):
 def test_laplace_diagnostic_uses_tension_per_deformed_width(tmp_path):
     """A cylinder with the warp also stretched (lengthwise_reduction 0.1): p_laplace equals the
     pressure within 0.1 % (it was 1.1111 x the pressure with the tension per rest width)."""
-    from cloth.predeform import predeform
+    from cloth.stages.case import initial_state
 
     case = {
         "material": "powernet",
@@ -98,7 +98,7 @@ def test_laplace_diagnostic_uses_tension_per_deformed_width(tmp_path):
             "lengthwise_reduction": 0.1,
         },
     }  # fmt: skip
-    state = predeform(case)
+    state = initial_state(case)
     ds, _ = aggregate(relaxed_file(tmp_path, state, solve(state)))
     inner = slice(1, -1)
     assert float(ds["strain_warp"].values[inner].mean()) > 0.05  # the warp is stretched
@@ -126,7 +126,7 @@ def test_strain_beyond_the_lab_range_is_reported(tmp_path, caplog):
     carry the strains; the unstrained warp springs are flagged slack."""
     state = tube({"cylinder": {"radius": 0.1, "bottom": 0.0, "top": 0.5}}, 0.5)
     path = relaxed_file(tmp_path, state, solve(state))
-    with caplog.at_level("WARNING", logger="cloth.aggregate"):
+    with caplog.at_level("WARNING", logger="cloth.results.fields"):
         ds, rows = aggregate(path)
     assert "weft springs (the fabric's weft) strained up to 0.99" in caplog.text
     assert "beyond the lab curve's last strain 0.8" in caplog.text
@@ -156,7 +156,7 @@ def test_cli_figures_export_and_non_converged(tmp_path, capsys):
     assert ds.attrs["converged"] == 0 and "NOT" in ds["pressure"].attrs["long_name"]
     assert "0" == (tmp_path / "summary.csv").read_text().splitlines()[1].split(",")[-1]
     assert main(["plot", str(out), "-o", str(tmp_path / "fig")]) == 0
-    from cloth.plots import FIGURES
+    from cloth.figures.plots import FIGURES
 
     figures = sorted((tmp_path / "fig").glob("*.png"))
     assert {f.stem for f in figures} == set(FIGURES)
@@ -191,7 +191,7 @@ def test_plotted_arrays_are_the_datasets(cylinder, tmp_path, monkeypatch):
         return original(self, *args, **kwargs)
 
     monkeypatch.setattr(matplotlib.axes.Axes, "pcolormesh", spy)
-    from cloth.plots import plot_result
+    from cloth.figures.plots import plot_result
 
     plot_result(ds, tmp_path)
     np.testing.assert_array_equal(seen[0], ds["stress_weft"].values)
@@ -201,14 +201,14 @@ def test_plotted_arrays_are_the_datasets(cylinder, tmp_path, monkeypatch):
 
 def test_landmarks_of_a_scan_come_from_the_girth_profile(tmp_path):
     from cloth.bodies.torso import chart_size, torso_mesh
-    from cloth.landmarks import girth_extrema
-    from cloth.predeform import predeform
+    from cloth.results.landmarks import girth_extrema
+    from cloth.stages.case import initial_state
     from tests.conftest import write_obj
 
     chart = chart_size("M")
     vertices, faces = torso_mesh(chart, around=64, rings=60)
     write_obj(tmp_path / "scan.obj", vertices, faces)
-    state = predeform(
+    state = initial_state(
         {
             "material": "powernet",
             "body": {"mesh": "scan.obj"},
@@ -231,8 +231,8 @@ def test_cone_edge_rows_carry_the_body_share_only(tmp_path, lengthwise):
     n and e_z), and edge_support_force = mu; -R . n would differ by mu n_z. With the warp also
     stretched (lengthwise 0.1) it pulls the upper edge 2 mm off the cone: no pressure there."""
     from cloth.bodies import Cone
-    from cloth.grid import WEFT
-    from cloth.predeform import predeform
+    from cloth.garment.grid import WEFT
+    from cloth.stages.case import initial_state
 
     body = {"cone": {"radius_bottom": 0.15, "radius_top": 0.07, "bottom": 0.0, "top": 0.3}}
     case = {
@@ -240,7 +240,7 @@ def test_cone_edge_rows_carry_the_body_share_only(tmp_path, lengthwise):
         "garment": {"bottom": 0.05, "top": 0.25, "reduction": 0.15, "grid": [64, 8],
                     "edges": "sliding", "lengthwise_reduction": lengthwise},
     }  # fmt: skip
-    state = predeform(case)
+    state = initial_state(case)
     result = solve(state, iterations=100)
     assert result.converged
     ds, _ = aggregate(relaxed_file(tmp_path, state, result))

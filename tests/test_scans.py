@@ -9,16 +9,16 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from cloth.aggregate import node_fields
-from cloth.bodies import body_from_config
 from cloth.bodies.torso import LANDMARKS, chart_size, torso_mesh
-from cloth.grid import FREE, SLIDING
-from cloth.landmarks import landmarks
-from cloth.predeform import predeform
+from cloth.files.body import body_from_config
+from cloth.garment.grid import FREE, SLIDING
+from cloth.results.fields import node_fields
+from cloth.results.landmarks import landmarks
 from cloth.solvers import Settings, relax
 from cloth.solvers.common import body_push, pushing
 from cloth.solvers.newton import entering
 from cloth.solvers.problem import Problem
+from cloth.stages.case import initial_state
 from tests.conftest import assert_quadratic_tail, capped_cylinder, write_obj
 from tests.test_relax import solve, tube
 
@@ -39,7 +39,7 @@ def girth_pressures(body: dict, grid: tuple[int, int]):
         "garment": {**GARMENT, "grid": list(grid)},
         "landmarks": heights,
     }
-    state = predeform(case)
+    state = initial_state(case)
     solid, _ = body_from_config(state.case["body"])
     result = relax(state, solid, Settings(tolerance=1e-8, max_iterations=100, progress=False))
     ev = result.final
@@ -125,13 +125,13 @@ def test_garment_wraps_the_largest_loop_and_says_so(tmp_path, caplog):
     path = write_obj(tmp_path / "armed.obj", vertices, faces)
     garment = {"bottom": 0.2, "top": 0.4, "reduction": 0.1, "grid": [24, 4]}
     case = {"material": "powernet", "body": {"mesh": str(path)}, "garment": garment}
-    with caplog.at_level("WARNING", logger="cloth.predeform"):
-        state = predeform(case)
+    with caplog.at_level("WARNING", logger="cloth.garment.predeform"):
+        state = initial_state(case)
     assert "wraps the largest" in caplog.text
     radius = np.hypot(state.x[:, 0], state.x[:, 1])
     assert np.all(np.abs(radius - 0.12) < 2e-3)
     case["garment"] = {**garment, "loop_point": [0.25, 0.0]}
-    state = predeform(case)
+    state = initial_state(case)
     radius = np.hypot(state.x[:, 0] - 0.25, state.x[:, 1])
     assert np.all(np.abs(radius - 0.04) < 2e-3)
 

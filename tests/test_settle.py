@@ -6,12 +6,13 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from cloth.bodies import MeshBody, body_from_config
+from cloth.bodies import MeshBody
 from cloth.bodies.implicit import _kkt_step
 from cloth.bodies.torso import chart_size, torso_mesh
-from cloth.grid import SLIDING
-from cloth.predeform import predeform
+from cloth.files.body import body_from_config
+from cloth.garment.grid import SLIDING
 from cloth.solvers.problem import Problem
+from cloth.stages.case import initial_state
 
 BODIES = {
     "smooth torso": {"torso": {"size": "M"}},
@@ -22,7 +23,7 @@ BODIES = {
 
 def _state(block: dict):
     garment = {"bottom": 0.95, "top": 1.10, "reduction": 0.15, "grid": [32, 8], "edges": "sliding"}
-    return predeform({"material": "powernet", "body": block, "garment": garment})
+    return initial_state({"material": "powernet", "body": block, "garment": garment})
 
 
 def _bodies():

@@ -8,11 +8,12 @@ import itertools
 import numpy as np
 import pytest
 
-from cloth.bodies import MeshBody, body_from_config, polygon_perimeter
+from cloth.bodies import MeshBody, polygon_perimeter
 from cloth.bodies.torso import LANDMARKS, SmoothTorso, chart_size, superellipse, torso_mesh
-from cloth.grid import FREE
-from cloth.predeform import predeform
+from cloth.files.body import body_from_config
+from cloth.garment.grid import FREE
 from cloth.solvers import Settings, relax
+from cloth.stages.case import initial_state
 
 RNG = np.random.default_rng(7)
 
@@ -116,7 +117,7 @@ def test_newton_converges_quadratically_on_the_smooth_torso():
         "body": {"torso": {"size": "M"}},
         "garment": {"bottom": 0.86, "top": 1.22, "reduction": 0.15, "grid": [48, 16]},
     }
-    state = predeform(case)
+    state = initial_state(case)
     body, _ = body_from_config(state.case["body"])
     assert isinstance(body, SmoothTorso)
     settings = Settings(tolerance=1e-8, max_iterations=40, progress=False, log_every=0)

@@ -9,7 +9,7 @@ import pytest
 import scipy.sparse as sp
 
 from cloth.bodies import Cylinder
-from cloth.grid import FIXED, FREE, rectangle
+from cloth.garment.grid import FIXED, FREE, rectangle
 from cloth.solvers import linear
 from cloth.solvers.problem import Problem
 from cloth.solvers.stability import negative_eigenvalues, unstable_modes

@@ -10,6 +10,7 @@ import xarray as xr
 import yaml
 
 import cloth.solvers
+import cloth.stages.case
 from cloth.cli import main
 from cloth.errors import EXIT_DIVERGED
 
@@ -37,7 +38,7 @@ def test_a_diverged_relaxation_keeps_its_last_state_and_exits_3(tmp_path, capsys
         result = real(state, body, settings)
         raise cloth.solvers.Diverged("energy grew", result.final.x, result.history)
 
-    monkeypatch.setattr(cloth.solvers, "relax", diverging)
+    monkeypatch.setattr(cloth.stages.case, "relax", diverging)
     capsys.readouterr()
     out = tmp_path / "relaxed.nc"
     code = main(["relax", str(tmp_path / "i.nc"), "-o", str(out)])
@@ -98,16 +99,16 @@ def test_later_stages_find_the_body_from_the_state_file_and_refuse_a_changed_one
 
 
 def test_a_case_is_validated_once_where_it_enters(tmp_path, monkeypatch):
-    import cloth.config
+    import cloth.pipeline.config
 
     calls = []
-    real = cloth.config.jsonschema.Draft202012Validator
+    real = cloth.pipeline.config.jsonschema.Draft202012Validator
 
     def counting(*args, **kwargs):
         calls.append(1)
         return real(*args, **kwargs)
 
-    monkeypatch.setattr(cloth.config.jsonschema, "Draft202012Validator", counting)
+    monkeypatch.setattr(cloth.pipeline.config.jsonschema, "Draft202012Validator", counting)
     case = _case(tmp_path)
     base = ["--log-level", "WARNING"]
     assert main([*base, "predeform", str(case), "--base-dir", str(ROOT), "-o",
@@ -116,5 +117,5 @@ def test_a_case_is_validated_once_where_it_enters(tmp_path, monkeypatch):
     assert main([*base, "run", str(case), "--base-dir", str(ROOT), "-o", str(tmp_path / "r"),
                  "--stop-after", "aggregate"]) == 0  # fmt: skip
     assert len(calls) == 2
-    valid = cloth.config.load_case(case)
-    assert cloth.config.validate_case(valid) is valid and len(calls) == 3
+    valid = cloth.pipeline.config.load_case(case)
+    assert cloth.pipeline.config.validate_case(valid) is valid and len(calls) == 3

@@ -11,8 +11,8 @@ from cloth.bodies.refine import auto_levels, phong_refine
 from cloth.bodies.smoothmesh import SmoothMeshBody
 from cloth.bodies.spline import SplineField
 from cloth.bodies.surface import FitOptions, fit_surface
-from cloth.bodies.surfacefile import load_or_fit, read_surface
 from cloth.cli import main
+from cloth.files.surface import load_or_fit, read_surface
 from tests.conftest import capped_cylinder, write_obj
 from tests.test_relax import hoop_tension, pressure, solve, tube
 

@@ -6,15 +6,15 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from cloth.bodies import body_from_config
+from cloth.contact.tissue import tissue_from_case
 from cloth.errors import InputError
-from cloth.grid import WEFT
-from cloth.predeform import predeform
-from cloth.pressure import contact_reaction, node_area
+from cloth.files.body import body_from_config
+from cloth.garment.grid import WEFT, node_area
+from cloth.results.pressure import contact_reaction
 from cloth.solvers import Settings, relax
 from cloth.solvers.newton import stiffness_at
 from cloth.solvers.problem import Problem
-from cloth.tissue import tissue_from_case
+from cloth.stages.case import initial_state
 
 RADIUS, DEPTH, MODULUS, REDUCTION = 0.1, 0.02, 20e3, 0.2
 
@@ -31,7 +31,7 @@ def tube(tissue=None, n=128, m=4, reduction=REDUCTION):
             "edges": "sliding",
         },
     }  # fmt: skip
-    return predeform(case)
+    return initial_state(case)
 
 
 def solve(state, tolerance=1e-10):

@@ -12,10 +12,10 @@ import pytest
 import yaml
 
 from cloth.errors import InputError
-from cloth.plan import make_plan
+from cloth.pipeline.plan import make_plan
+from cloth.pipeline.variants import Variant, sweep_variants
 from cloth.stages.case import run_case
 from cloth.stages.sweep import design_file, sweep_files
-from cloth.variants import Variant, sweep_variants
 
 ROOT = Path(__file__).resolve().parents[1]
 CONFIG = yaml.safe_load((ROOT / "config/config.yaml").read_text())

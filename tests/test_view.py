@@ -12,9 +12,9 @@ import numpy as np
 import pytest
 
 from cloth.cli import main
+from cloth.figures.view import FIELDS, grid_triangles, view_figure
 from cloth.io import write_netcdf
 from cloth.stages import aggregate
-from cloth.view import FIELDS, grid_triangles, view_figure
 from tests.test_relax import solve, tube
 from tests.test_results import relaxed_file
 

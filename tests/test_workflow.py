@@ -92,7 +92,7 @@ def test_tiny_pipeline_end_to_end(tiny_run):
         assert 300 < waist < 5000  # a 15 % reduction of power net: shapewear range, Pa
     summary = (where / "results/cases/tiny/summary.csv").read_text().splitlines()
     assert len(summary) == 3 and "pressure_mean_mmHg" in summary[0]
-    from cloth.plots import FIGURES
+    from cloth.figures.plots import FIGURES
 
     figures = {f.stem for f in (where / "results/cases/tiny/figures").glob("*.png")}
     assert figures == set(FIGURES)
@@ -136,8 +136,8 @@ def test_design_interpolates_and_explains_out_of_range():
     import xarray as xr
 
     from cloth.errors import InputError
-    from cloth.pressure import MMHG
-    from cloth.sweep import design
+    from cloth.pipeline.sweep import design
+    from cloth.results.pressure import MMHG
 
     reductions = np.array([0.1, 0.2, 0.3])
     pressure = np.array([10.0, 20.0, 40.0]) * MMHG  # mean waist pressure, Pa

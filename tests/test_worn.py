@@ -5,12 +5,13 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from cloth.bodies import body_from_config
 from cloth.errors import InputError
-from cloth.labtables import ingest
-from cloth.predeform import predeform
-from cloth.pressure import contact_reaction, node_area
+from cloth.files.body import body_from_config
+from cloth.garment.grid import node_area
+from cloth.materials.labtables import ingest
+from cloth.results.pressure import contact_reaction
 from cloth.solvers import Settings, relax
+from cloth.stages.case import initial_state
 
 CYLINDER = {"cylinder": {"radius": 0.1, "bottom": 0.0, "top": 0.5}}
 
@@ -24,7 +25,7 @@ def tube(reduction, material="powernet", **garment):
 
 
 def mean_pressure(case):
-    state = predeform(case)
+    state = initial_state(case)
     body, _ = body_from_config(CYLINDER)
     result = relax(state, body, Settings(tolerance=1e-10, progress=False))
     assert result.converged
@@ -52,8 +53,8 @@ def test_a_set_along_the_tube_packs_more_courses_into_its_height():
 def test_the_set_is_measured_in_the_cycles_of_the_lab_table():
     fabric = ingest(["data/materials/powernet.csv"]).fabric
     assert 0.0 < fabric.set_strain["weft"] < 0.05 and 0.0 < fabric.set_strain["warp"] < 0.05
-    state = predeform(tube(0.2, worn=True))
-    new = predeform(tube(0.2))
+    state = initial_state(tube(0.2, worn=True))
+    new = initial_state(tube(0.2))
     ratio = state.grid.rest_length / new.grid.rest_length
     weft = state.grid.family_slices[0]
     np.testing.assert_allclose(ratio[weft], 1 + fabric.set_strain["weft"], rtol=1e-12)
@@ -66,8 +67,8 @@ def test_worn_without_a_known_set_is_refused(tmp_path):
         "weft,0,0\nweft,0.5,100\nwarp,0,0\nwarp,0.5,150\n"
     )
     with pytest.raises(InputError) as error:
-        predeform(tube(0.2, material=str(table), worn=True))
+        initial_state(tube(0.2, material=str(table), worn=True))
     assert error.value.field == "garment.set_strain.weft"
     with pytest.raises(InputError) as error:
-        predeform(tube(0.2, worn=True, set_strain={"weft": float("nan")}))
+        initial_state(tube(0.2, worn=True, set_strain={"weft": float("nan")}))
     assert error.value.field == "garment.set_strain.weft"

@@ -9,15 +9,14 @@
 * `cloth.bodies.spline`: the cubic B-spline field the fitted surfaces are made of;
 * `cloth.bodies.surface`: the smooth surface fitted to any mesh (the default contact surface
   of a mesh body); `cloth.bodies.smoothmesh`: the mesh body contacted through it;
-  `cloth.bodies.surfacefile`: its file and cache;
-* `cloth.bodies.drawing`: a result's body as triangles for figures;
-* `cloth.bodies.check`: `cloth body check`;
-* `cloth.bodies.factory`: the body of a case's ``body`` block.
+* `cloth.bodies.proximity`: exact closest points and signed distances on a triangle mesh.
+
+A body is built from a case's ``body`` block by `cloth.files.body` (it reads the mesh, chart or
+fitted-surface files), drawn by `cloth.figures.drawing`, checked by `cloth.stages.bodycheck`.
 """
 
 from cloth.bodies.analytic import Cone, Cylinder, EllipticCylinder
 from cloth.bodies.base import Body, hull_polygon, polygon_perimeter
-from cloth.bodies.factory import body_from_config, body_from_record
 from cloth.bodies.mesh import MeshBody
 from cloth.bodies.sections import loop_around
 
@@ -27,8 +26,6 @@ __all__ = [
     "Cylinder",
     "EllipticCylinder",
     "MeshBody",
-    "body_from_config",
-    "body_from_record",
     "hull_polygon",
     "loop_around",
     "polygon_perimeter",

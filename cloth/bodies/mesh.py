@@ -1,13 +1,13 @@
 """Triangle-mesh bodies: load any mesh trimesh reads, convert units and axes, check, repair.
 
-`MeshBody` wraps any mesh trimesh reads (OBJ, STL, PLY, GLB, ...), converted once at load to
-metres and z up, checked for finite vertices, watertightness, manifold edges, consistent winding
-and degenerate faces, with an explicit ``repair`` option. Its proximity queries are exact
-(closest point on triangles): libigl's AABB tree with pseudonormal signs when installed (a core
-dependency, ~2 us per point), else the numpy/scipy implementation in `cloth.proximity` (~30 us
-per point); see docs/bodies.md for measurements. Contact with the facets themselves is the
-``surface: mesh`` option; by default a mesh body is contacted through the smooth surface fitted
-to it (`cloth.bodies.surface`).
+`MeshBody` wraps any mesh trimesh reads (OBJ, STL, PLY, GLB, ...), converted once at load to metres
+and z up, checked for finite vertices, watertightness, manifold edges, consistent winding and
+degenerate faces, with an explicit ``repair`` option. Its proximity queries are exact (closest point
+on triangles): libigl's AABB tree with pseudonormal signs when installed (a core dependency, ~2 us
+per point), else the numpy/scipy implementation in `cloth.bodies.proximity` (~30 us per point); see
+docs/bodies.md for measurements. Contact with the facets themselves is the ``surface: mesh`` option;
+by default a mesh body is contacted through the smooth surface fitted to it
+(`cloth.bodies.surface`).
 """
 
 from __future__ import annotations
@@ -27,6 +27,7 @@ from cloth.bodies.base import (
     loop_length,
     polygon_perimeter,
 )
+from cloth.bodies.proximity import MeshProximity
 from cloth.bodies.sections import closed, loops
 from cloth.errors import InputError
 
@@ -110,8 +111,6 @@ class MeshBody:
             else:
                 self.backend = "igl"
         if self.backend == "numpy":
-            from cloth.proximity import MeshProximity
-
             self._query = MeshProximity(self.vertices, self.faces).query
 
     @classmethod
@@ -236,7 +235,7 @@ class MeshBody:
 
     def topology(self) -> dict:
         """Cached face normals, edge-to-faces and vertex-to-faces maps, and an AABB tree (what
-        faceted contact, `cloth.contact`, reads of the mesh)."""
+        faceted contact, `cloth.contact.polyhedral`, reads of the mesh)."""
         if self._topo is None:
             import igl
 

@@ -56,6 +56,7 @@ from cloth.bodies.mesh import MeshBody
 from cloth.bodies.spline import SplineField
 from cloth.bodies.tessellation import FEATURE_ANGLE, crease_spacing
 from cloth.errors import InputError
+from cloth.progress import progress as progress_of
 
 log = logging.getLogger(__name__)
 
@@ -221,8 +222,6 @@ def fit_surface(
     """Fit the smooth surface of ``mesh`` (module docstring); progress over the exact
     distance samples (``progress``: None = a bar on a terminal, else log lines)."""
     from scipy.ndimage import gaussian_filter, laplace
-
-    from cloth.progress import progress as progress_of
 
     vertices, faces = mesh.vertices, mesh.faces
     vertices, move = denoise.as_fitted(vertices, faces, options.denoise, refine.NOISE_RATIO)

@@ -48,7 +48,6 @@ from scipy.interpolate import CubicSpline, PchipInterpolator
 from cloth.bodies.base import SECTION_POINTS, AnalyticBody
 from cloth.bodies.implicit import ImplicitBody
 from cloth.errors import InputError
-from cloth.landmarks import TORSO_LANDMARKS
 
 log = logging.getLogger(__name__)
 
@@ -56,7 +55,8 @@ EXPONENT = 2.4
 #: Heights at which the section profiles are sampled for the splines (0.3 mm apart on 0.5 m).
 PROFILE_SAMPLES = 1601
 DEFAULT_CHART = Path(__file__).resolve().parents[2] / "data" / "bodies" / "size_chart.csv"
-LANDMARKS = TORSO_LANDMARKS
+#: The torso's girth lines, bottom to top: its landmarks, named in the size chart.
+LANDMARKS = ("hip", "waist", "underbust", "bust")
 GIRTH_KEYS = ("bust_cm", "underbust_cm", "waist_cm", "hip_cm")
 
 

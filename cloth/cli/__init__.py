@@ -13,6 +13,7 @@ from collections.abc import Sequence
 
 from cloth.cli.parser import build_parser
 from cloth.errors import EXIT_INPUT, InputError, StageFailed
+from cloth.io import set_command
 
 __all__ = ["build_parser", "main"]
 
@@ -26,7 +27,6 @@ def main(argv: Sequence[str] | None = None) -> int:
         format="%(asctime)s %(levelname)s %(name)s: %(message)s",
         stream=sys.stderr,
     )
-    from cloth.io import set_command
 
     set_command(["cloth", *(sys.argv[1:] if argv is None else argv)])
     handler = args.handler

@@ -7,7 +7,19 @@ import argparse
 import logging
 from collections.abc import Callable
 
+from cloth.bodies.mesh import MeshBody
+from cloth.bodies.surface import FitOptions
 from cloth.errors import InputError
+from cloth.figures.export import export
+from cloth.files.surface import load_or_fit
+from cloth.io import atomic_output, read_netcdf
+from cloth.materials.labtables import IngestOptions
+from cloth.pipeline.config import load_case, validate_case
+from cloth.stages import figures, view, write_result
+from cloth.stages.bodycheck import describe
+from cloth.stages.case import SOLVER_KEYS, predeform_file, relax_file, run_case
+from cloth.stages.inputs import ingest_material, torso_file
+from cloth.stages.sweep import confirm_file, design_file, sweep_files
 
 log = logging.getLogger("cloth")
 
@@ -15,9 +27,6 @@ Handler = Callable[[argparse.Namespace], int]
 
 
 def _material_ingest(args: argparse.Namespace) -> int:
-    from cloth.labtables import IngestOptions
-    from cloth.stages.inputs import ingest_material
-
     options = IngestOptions(
         n_knots=args.knots, branch=args.branch, cycle=args.cycle,
         thickness_mm=args.thickness_mm, specimen_width_mm=args.specimen_width_mm,
@@ -29,8 +38,6 @@ def _material_ingest(args: argparse.Namespace) -> int:
 
 
 def _body_torso(args: argparse.Namespace) -> int:
-    from cloth.stages.inputs import torso_file
-
     girths = {k: getattr(args, k) for k in ("bust", "underbust", "waist", "hip")
               if getattr(args, k) is not None}  # fmt: skip
     torso_file(args.size, args.chart, girths, args.around, args.rings, args.output)
@@ -38,14 +45,11 @@ def _body_torso(args: argparse.Namespace) -> int:
 
 
 def _fit_options(args: argparse.Namespace):  # -> FitOptions (imported late: startup time)
-    from cloth.bodies.surface import FitOptions
 
     return FitOptions(args.smoothing, args.spacing, args.refine, args.denoise)
 
 
 def _body_check(args: argparse.Namespace) -> int:
-    from cloth.bodies.check import describe
-
     lines = describe(
         args.mesh, args.units, args.up, args.repair, args.levels, args.surface,
         _fit_options(args), args.curvature, args.surface_file,
@@ -55,17 +59,12 @@ def _body_check(args: argparse.Namespace) -> int:
 
 
 def _body_fit(args: argparse.Namespace) -> int:
-    from cloth.bodies.mesh import MeshBody
-    from cloth.bodies.surfacefile import load_or_fit
-
     mesh = MeshBody.load(args.mesh, args.units, args.up, args.repair, allow_holes=True)
     load_or_fit(mesh, _fit_options(args), args.output)
     return 0
 
 
 def _predeform(args: argparse.Namespace) -> int:
-    from cloth.stages.case import predeform_file
-
     predeform_file(args.case, args.output, args.base_dir, args.plot, args.force)
     return 0
 
@@ -74,9 +73,6 @@ def _case_write(args: argparse.Namespace) -> int:
     import json
 
     import yaml
-
-    from cloth.config import validate_case
-    from cloth.io import atomic_output
 
     try:
         case = json.loads(args.json)
@@ -92,59 +88,42 @@ def _case_write(args: argparse.Namespace) -> int:
 def _case_check(args: argparse.Namespace) -> int:
     import yaml
 
-    from cloth.config import load_case
-
     print(yaml.safe_dump(dict(load_case(args.case)), sort_keys=False), end="")
     return 0
 
 
 def _overrides(args: argparse.Namespace) -> dict:
     """The solver keys given on the command line (on top of the case's solver block)."""
-    from cloth.stages.case import SOLVER_KEYS
-
     return {k: getattr(args, k) for k in SOLVER_KEYS if getattr(args, k, None) is not None}
 
 
 def _relax(args: argparse.Namespace) -> int:
-    from cloth.stages.case import relax_file
-
     relax_file(args.initial, args.output, _overrides(args), args.force)
     return 0
 
 
 def _run(args: argparse.Namespace) -> int:
-    from cloth.stages.case import run_case
-
     run_case(args.case, args.output, _overrides(args), args.base_dir, args.stop_after,
              args.force)  # fmt: skip
     return 0
 
 
 def _aggregate(args: argparse.Namespace) -> int:
-    from cloth.stages import write_result
-
     write_result(args.relaxed, args.output, args.summary)
     return 0
 
 
 def _plot(args: argparse.Namespace) -> int:
-    from cloth.stages import figures
-
     figures(args.result, args.output, args.peers, args.stress_range, args.pressure_range)
     return 0
 
 
 def _view(args: argparse.Namespace) -> int:
-    from cloth.stages import view
-
     view(args.result, args.output)
     return 0
 
 
 def _export(args: argparse.Namespace) -> int:
-    from cloth.export import export
-    from cloth.io import read_netcdf
-
     export(read_netcdf(args.result, "result", ("x", "y", "z")), args.output, args.field)
     log.info("wrote %s", args.output)
     return 0
@@ -152,8 +131,6 @@ def _export(args: argparse.Namespace) -> int:
 
 def _sweep(args: argparse.Namespace) -> int:
     import json
-
-    from cloth.stages.sweep import sweep_files
 
     sweep_files(json.loads(args.index), json.loads(args.targets), args.root, args.output,
                 args.csv, args.plot, args.body_plot)  # fmt: skip
@@ -163,14 +140,10 @@ def _sweep(args: argparse.Namespace) -> int:
 def _design(args: argparse.Namespace) -> int:
     import json
 
-    from cloth.stages.sweep import design_file
-
     design_file(args.sweep, json.loads(args.targets), args.output)
     return 0
 
 
 def _confirm(args: argparse.Namespace) -> int:
-    from cloth.stages.sweep import confirm_file
-
     confirm_file(args.design, args.root, args.output)
     return 0

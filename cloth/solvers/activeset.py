@@ -15,7 +15,7 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
-from cloth.grid import FIXED
+from cloth.garment.grid import FIXED
 from cloth.solvers.common import CONTACT_TOLERANCE
 from cloth.solvers.problem import Evaluation, Problem
 

@@ -22,7 +22,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from cloth.errors import InputError
-from cloth.grid import FIXED, SLIDING
+from cloth.garment.grid import FIXED, SLIDING
 
 log = logging.getLogger(__name__)
 

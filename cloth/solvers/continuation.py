@@ -42,9 +42,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from cloth.bodies import Body
-from cloth.grid import FIXED, SLIDING, WEFT, Grid, build_grid
+from cloth.garment.grid import FIXED, SLIDING, WEFT, Grid, build_grid
+from cloth.garment.state import State, grid_fabric
 from cloth.solvers.common import Diverged, Settings
-from cloth.statefile import State, grid_fabric
+from cloth.solvers.problem import Problem
 
 log = logging.getLogger(__name__)
 
@@ -161,8 +162,6 @@ def carry_contact(
     (interpolated, `keep_constraints`), with every node whose coarse neighbours were all held
     (``held``, (source N,)) put on the body (`Problem.project_out`: a sliding node along its
     horizontal normal); with tissue, nothing is put on the skin."""
-    from cloth.solvers.problem import Problem
-
     placed = keep_constraints(interpolate(x, source, target.grid), target)
     if (target.case.get("body") or {}).get("tissue") is not None:
         return placed  # the skin gives way: its nodes stay where the coarse answer sank them

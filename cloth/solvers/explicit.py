@@ -19,7 +19,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-from cloth.mechanics import stiffness
+from cloth.garment.mechanics import stiffness
 from cloth.solvers.problem import Evaluation, Problem
 from cloth.solvers.stepper import Step
 

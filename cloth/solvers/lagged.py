@@ -1,12 +1,12 @@
 """The skin models' lagged quantities, and the outer iteration that settles them.
 
-Tissue (`cloth.tissue`) and friction (`cloth.friction`) each depend on a quantity Newton holds
-fixed while it solves: the nodes' tributary areas (the tissue's stiffness k = E A / h) and the
-normal forces and normals (friction's bound mu lambda and its tangent planes). `relax` solves
-with them frozen, takes them afresh from the solution (`relag`), and solves again, until the
-largest relative change is at most ``LAG_TOLERANCE`` (at most ``MAX_LAGS`` solves). Without
-either model there is nothing to lag and a relaxation is one solve, as before. The models a
-case asks for are built by `cloth.skin.skin_models`.
+Tissue (`cloth.contact.tissue`) and friction (`cloth.contact.friction`) each depend on a quantity
+Newton holds fixed while it solves: the nodes' tributary areas (the tissue's stiffness k = E A / h)
+and the normal forces and normals (friction's bound mu lambda and its tangent planes). `relax`
+solves with them frozen, takes them afresh from the solution (`relag`), and solves again, until the
+largest relative change is at most ``LAG_TOLERANCE`` (at most ``MAX_LAGS`` solves). Without either
+model there is nothing to lag and a relaxation is one solve, as before. The models a case asks for
+are built by `cloth.contact.skin.skin_models`.
 """
 
 from __future__ import annotations
@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from cloth.pressure import node_area
+from cloth.garment.grid import node_area
 
 if TYPE_CHECKING:
     from cloth.solvers.problem import Evaluation, Problem

@@ -48,10 +48,10 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
-from cloth import contact
 from cloth.bodies import MeshBody
-from cloth.grid import FIXED, SLIDING
-from cloth.mechanics import stiffness
+from cloth.contact import polyhedral as contact
+from cloth.garment.grid import FIXED, SLIDING
+from cloth.garment.mechanics import stiffness
 from cloth.solvers.activeset import Stiffness, entering, held_nodes
 from cloth.solvers.krylov import FORCING, KRYLOV_LOOSEST, KRYLOV_RTOL
 from cloth.solvers.linear import (

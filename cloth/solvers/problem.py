@@ -7,12 +7,14 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from cloth import contact
 from cloth.bodies import Body, MeshBody
-from cloth.friction import Friction
-from cloth.grid import FIXED, SLIDING, Grid
-from cloth.mechanics import SpringState, energy, spring_forces, spring_state
-from cloth.skin import skin_models
+from cloth.contact import polyhedral as contact
+from cloth.contact.friction import Friction
+from cloth.contact.skin import skin_models
+from cloth.contact.tissue import Layer
+from cloth.garment.grid import FIXED, SLIDING, Grid
+from cloth.garment.mechanics import SpringState, _operators, energy, spring_forces, spring_state
+from cloth.garment.state import State
 from cloth.solvers.common import (
     CONTACT_TOLERANCE,
     body_push,
@@ -21,8 +23,6 @@ from cloth.solvers.common import (
     relative_residual,
     typical_force,
 )
-from cloth.statefile import State
-from cloth.tissue import Layer
 
 #: Newton corrections along the horizontal normal that put a sliding edge node on the body.
 LEVEL_ITERATIONS = 3
@@ -87,10 +87,10 @@ def turning_gauge(grid: Grid, constraint: NDArray[np.int8]) -> int | None:
 
 @dataclass(frozen=True, eq=False)
 class Problem:
-    """The grid, the body, the nodes' constraints (`cloth.statefile`: free, sliding, fixed), the
+    """The grid, the body, the nodes' constraints (`cloth.files.state`: free, sliding, fixed), the
     node held against turning (`turning_gauge`; None: none), and the lagged skin models: the
-    tissue layer under each node (`cloth.tissue.Layer`; None: a rigid body) and the friction
-    (`cloth.friction.Friction`; None: frictionless)."""
+    tissue layer under each node (`cloth.contact.tissue.Layer`; None: a rigid body) and the friction
+    (`cloth.contact.friction.Friction`; None: frictionless)."""
 
     grid: Grid
     body: Body
@@ -102,7 +102,7 @@ class Problem:
     @classmethod
     def of(cls, state: State, body: Body) -> Problem:
         """The problem of relaxing ``state`` on ``body``, with its turning gauge and the skin
-        models its case asks for (`cloth.skin.skin_models`)."""
+        models its case asks for (`cloth.contact.skin.skin_models`)."""
         tissue, friction = skin_models(state.case, state.grid, state.x)
         gauge = turning_gauge(state.grid, state.constraint)
         return cls(state.grid, body, state.constraint, gauge, tissue, friction)
@@ -140,8 +140,6 @@ class Problem:
     def evaluate(self, x: NDArray[np.float64], query: Query | None = None) -> Evaluation:
         """The `Evaluation` at ``x`` ((N, 3), m); ``query``: the body's query at ``x`` where it
         is known (`settle`), else the body is queried."""
-        from cloth.mechanics import _operators
-
         springs = spring_state(x, self.grid)
         spring_force = spring_forces(springs, self.grid)
         forces = -(_operators(self.grid).incidence_t @ spring_force)

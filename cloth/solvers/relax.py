@@ -12,7 +12,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from cloth.bodies import Body
-from cloth.skin import check_solver
+from cloth.contact.skin import check_solver
+from cloth.garment.state import State
 from cloth.solvers import lagged
 from cloth.solvers.common import Diverged, History, Settings
 from cloth.solvers.continuation import start_from_coarse
@@ -21,7 +22,6 @@ from cloth.solvers.linear import blas_threads, choose, factorisations
 from cloth.solvers.newton import Newton
 from cloth.solvers.problem import Evaluation, Problem
 from cloth.solvers.stepper import Callback, LogLine, ProgressBar, Step, Stepper
-from cloth.statefile import State
 
 log = logging.getLogger(__name__)
 

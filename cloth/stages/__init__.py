@@ -16,8 +16,8 @@ sweep              `sweep.sweep_files`                   results -> sweep.nc, sw
 design, confirm    `sweep.design_file`, `confirm_file`   sweep.nc -> design.csv -> confirmed.csv
 =================  ====================================  ==========================================
 
-The body stages `cloth body check` and `cloth body fit` are `cloth.bodies.check.describe` and
-`cloth.bodies.surfacefile.load_or_fit`.
+The body stages `cloth body check` and `cloth body fit` are `cloth.stages.bodycheck.describe` and
+`cloth.files.surface.load_or_fit`.
 """
 
 from cloth.stages.results import aggregate, figures, view, write_result

@@ -1,8 +1,8 @@
 """The per-case stages before the results: a case file -> initial.nc (`predeform_file`),
 initial.nc -> relaxed.nc (`relax_file`), and every stage into one folder (`run_case`).
 
-Each checks first that the case fits the machine's free memory (`cloth.guard`; ``force`` runs
-it anyway) and writes its files atomically.
+Each checks first that the case fits the machine's free memory (`cloth.pipeline.guard`;
+``force`` runs it anyway) and writes its files atomically.
 """
 
 from __future__ import annotations
@@ -13,6 +13,20 @@ import logging
 from pathlib import Path
 
 from cloth.errors import EXIT_DIVERGED, StageFailed
+from cloth.figures.plots import plot_garment_3d
+from cloth.files.body import body_from_config, body_from_record
+from cloth.files.material import load_fabric
+from cloth.files.relaxed import Relaxation, relaxed_dataset
+from cloth.files.state import read_state, state_dataset
+from cloth.garment.mechanics import spring_state
+from cloth.garment.predeform import predeform
+from cloth.garment.state import State
+from cloth.io import write_netcdf
+from cloth.pipeline import guard
+from cloth.pipeline.config import load_case, validate_case
+from cloth.pipeline.resources import grid_nodes
+from cloth.solvers import Diverged, Settings, relax
+from cloth.stages.results import figures, view, write_result
 
 log = logging.getLogger("cloth")
 
@@ -23,17 +37,22 @@ SOLVER_KEYS = ("method", "tolerance", "max_iterations", "linear_solver", "log_ev
 
 def check_fits(stages: tuple[str, ...], case: dict, base_dir: Path, source, force: bool):
     """Refuse (`InputError`) a case whose estimated memory in ``stages`` exceeds the free."""
-    from cloth import guard
-
     guard.check_fits(stages, *guard.case_counts(case, base_dir), source, force)
 
 
 def _check_record_fits(stage: str, case: dict, record: dict, source, force: bool) -> None:
-    from cloth import guard
-    from cloth.resources import grid_nodes
-
     faces = guard.mesh_faces(record["path"]) if "mesh" in record.get("block", {}) else 0
     guard.check_fits((stage,), grid_nodes(case), faces, source, force)
+
+
+def initial_state(case: dict, base_dir: str | Path = ".", source: str = "case") -> State:
+    """The initial state of a case (a mapping, validated here unless it is already): its
+    fabric and body read from the files it names, relative to ``base_dir``, then
+    `cloth.garment.predeform.predeform`."""
+    case = validate_case(case, source)
+    fabric = load_fabric(case["material"], base_dir)
+    body, record = body_from_config(case["body"], base_dir)
+    return predeform(case, fabric, body, record, source)
 
 
 def predeform_file(
@@ -42,15 +61,10 @@ def predeform_file(
 ):  # fmt: skip
     """case.yaml -> initial.nc (and a 3D figure of the wrapped garment); returns the state.
     Relative paths in the case are relative to ``base_dir`` (default: the case's folder)."""
-    from cloth.config import load_case
-    from cloth.io import write_netcdf
-    from cloth.predeform import predeform
-    from cloth.statefile import state_dataset
-
     case = load_case(case_path)
     base_dir = case_path.parent if base_dir is None else base_dir
     check_fits(("predeform",), case, base_dir, case_path, force)
-    state = predeform(case, base_dir, str(case_path))
+    state = initial_state(case, base_dir, str(case_path))
     write_netcdf(state_dataset(state, "initial"), output)
     log.info("wrote %s", output)
     if plot:
@@ -59,10 +73,6 @@ def predeform_file(
 
 
 def _plot_wrapped(state, path: Path, name: str) -> None:
-    from cloth.bodies import body_from_record
-    from cloth.mechanics import spring_state
-    from cloth.plots import plot_garment_3d
-
     grid = state.grid
     strain = spring_state(state.x, grid).strain[grid.family_slices[0]]
     body = body_from_record(state.body)
@@ -76,11 +86,6 @@ def relax_state(state, overrides: dict, output: Path, previous: dict | None = No
     """Relax ``state`` (its case's solver block, ``overrides`` on top) on the body its record
     names, and write relaxed.nc. A divergence writes the last finite state to
     ``*.diverged.nc`` and raises `StageFailed`."""
-    from cloth.bodies import body_from_record
-    from cloth.io import write_netcdf
-    from cloth.relaxfile import Relaxation, relaxed_dataset
-    from cloth.solvers import Diverged, Settings, relax
-
     settings = Settings(**{**state.case.get("solver", {}), **overrides})
     body = body_from_record(state.body, output)
     try:
@@ -103,8 +108,6 @@ def relax_file(initial: Path, output: Path, overrides: dict, force: bool = False
     memory check reads the case and body from the file's header before its arrays."""
     import xarray as xr
 
-    from cloth.statefile import read_state
-
     try:
         with xr.open_dataset(initial) as head:
             case, record = json.loads(head.attrs["case"]), json.loads(head.attrs["body"])
@@ -123,16 +126,10 @@ def run_case(
     """Every stage of one case into ``folder``: initial.nc, relaxed.nc, result.nc, summary.csv,
     figures/ and garment.html (where plotly is installed); ``stop_after`` one of predeform,
     relax, aggregate."""
-    from cloth.config import load_case
-    from cloth.io import write_netcdf
-    from cloth.predeform import predeform
-    from cloth.stages.results import figures, view, write_result
-    from cloth.statefile import state_dataset
-
     case = load_case(case_path)
     base_dir = case_path.parent if base_dir is None else base_dir
     check_fits(("predeform", "relax", "aggregate", "figures"), case, base_dir, case_path, force)
-    state = predeform(case, base_dir, str(case_path))
+    state = initial_state(case, base_dir, str(case_path))
     initial = state_dataset(state, "initial")
     write_netcdf(initial, folder / "initial.nc")
     if stop_after == "predeform":

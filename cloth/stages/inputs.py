@@ -7,7 +7,12 @@ import logging
 from collections.abc import Sequence
 from pathlib import Path
 
+from cloth.bodies.torso import DEFAULT_CHART, chart_size, torso_mesh
 from cloth.errors import InputError
+from cloth.figures.plots import plot_material
+from cloth.files.material import material_dataset
+from cloth.io import atomic_output, write_netcdf
+from cloth.materials.labtables import ingest
 
 log = logging.getLogger("cloth")
 
@@ -17,12 +22,8 @@ def ingest_material(
     plot: Path | None = None,
 ) -> None:  # fmt: skip
     """Read ``tables`` (one per direction in ``directions``, or directions from their columns)
-    with `cloth.labtables.IngestOptions` ``options`` into ``output``; log each curve's fit."""
-    from cloth.io import write_netcdf
-    from cloth.labtables import ingest
-    from cloth.materialfile import material_dataset
-    from cloth.plots import plot_material
-
+    with `cloth.materials.labtables.IngestOptions` ``options`` into ``output``; log each
+    curve's fit."""
     if directions and len(directions) != len(tables):
         raise InputError(
             f"give --direction once per table ({len(tables)}), got {len(directions)}",
@@ -51,9 +52,6 @@ def torso_file(
     import dataclasses
 
     import trimesh
-
-    from cloth.bodies.torso import DEFAULT_CHART, chart_size, torso_mesh
-    from cloth.io import atomic_output
 
     spec = chart_size(size, chart or DEFAULT_CHART)
     if girths_cm:

@@ -1,6 +1,6 @@
 """The result stages: relaxed.nc -> result.nc and summary.csv (`aggregate`, `write_result`),
-result.nc -> figures (`figures`) and the interactive view (`view`). `cloth.aggregate` computes,
-`cloth.resultfile` lays out the result file; the stages join them to the files.
+result.nc -> figures (`figures`) and the interactive view (`view`). `cloth.results.fields` computes,
+`cloth.files.result` lays out the result file; the stages join them to the files.
 """
 
 from __future__ import annotations
@@ -11,16 +11,20 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from cloth.aggregate import lab_range_variables, node_average, node_fields
-from cloth.bodies import body_from_record
-from cloth.grid import WEFT
-from cloth.landmarks import girth_extrema, landmarks
-from cloth.mechanics import spring_state
-from cloth.resultfile import result_dataset, summary_rows
-from cloth.skinfile import result_skin_variables
+from cloth.figures.onbody import FIELDS, body_band, plot_on_body, shared_ranges
+from cloth.figures.plots import plot_result
+from cloth.figures.view import write_view
+from cloth.files.body import body_from_record
+from cloth.files.result import result_dataset, summary_rows, write_summary
+from cloth.files.skin import result_skin_variables
+from cloth.files.state import read_state
+from cloth.garment.grid import WEFT
+from cloth.garment.mechanics import spring_state
+from cloth.io import read_netcdf, write_netcdf
+from cloth.results.fields import lab_range_variables, node_average, node_fields
+from cloth.results.landmarks import girth_extrema, landmarks
 from cloth.solvers.problem import Evaluation, Problem
 from cloth.solvers.stability import unstable_modes
-from cloth.statefile import read_state
 
 log = logging.getLogger(__name__)
 
@@ -92,14 +96,10 @@ def figures(
     stress_range: tuple[float, float] | None = None,
     pressure_range: tuple[float, float] | None = None,
 ) -> list[Path]:
-    """result.nc -> every figure of `cloth.plots.FIGURES` in ``folder``: the flat maps, the
+    """result.nc -> every figure of `cloth.figures.plots.FIGURES` in ``folder``: the flat maps, the
     profiles and the garment on the body. Colour ranges: ``stress_range`` (Pa) and
     ``pressure_range`` (mmHg) where given, else the range over ``peers`` (the result files of
     the case's sweep, so that its figures compare) and the result itself."""
-    from cloth.io import read_netcdf
-    from cloth.onbody import FIELDS, body_band, plot_on_body, shared_ranges
-    from cloth.plots import plot_result
-
     ds = read_netcdf(result_path, "result", ("stress_weft", "pressure", "u", "v"))
     others = [read_netcdf(p, "result", ("stress_weft", "pressure_mmHg")) for p in peers]
     shared_stress, shared_pressure = shared_ranges([ds, *others])
@@ -123,9 +123,6 @@ def write_result(
     logs each girth line's pressure, and warns if the relaxation did not converge."""
     import logging
 
-    from cloth.io import write_netcdf
-    from cloth.resultfile import write_summary
-
     log = logging.getLogger("cloth")
     ds, rows = aggregate(relaxed_path)
     write_netcdf(ds, output)
@@ -143,11 +140,8 @@ def write_result(
 
 
 def view(result: str | Path | xr.Dataset, output: str | Path) -> Path:
-    """result.nc (or its dataset) -> the interactive HTML view over its body (`cloth.view`)."""
-    from cloth.io import read_netcdf
-    from cloth.onbody import body_band
-    from cloth.view import write_view
-
+    """result.nc (or its dataset) -> the interactive HTML view over its body
+    (`cloth.figures.view`)."""
     ds = result if isinstance(result, xr.Dataset) else (
         read_netcdf(result, "result", ("x", "y", "z", "pressure_mmHg"))
     )  # fmt: skip

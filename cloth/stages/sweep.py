@@ -1,11 +1,25 @@
 """The sweep stages: every case's result -> sweep.nc, sweep.csv and the figures of the sweep
 (`sweep_files`), sweep.nc -> design.csv (`design_file`), the confirmation runs -> their errors
-(`confirm_file`). The logic is `cloth.sweep`'s; these join it to the files."""
+(`confirm_file`). The logic is `cloth.pipeline.sweep`'s; these join it to the files."""
 
 from __future__ import annotations
 
 import logging
 from pathlib import Path
+
+from cloth.figures.onbody import plot_sweep_on_body
+from cloth.io import read_netcdf, write_netcdf
+from cloth.pipeline.sweep import (
+    collect,
+    confirm,
+    design,
+    design_header,
+    plot_design,
+    read_design,
+    sweep_rows,
+    write_rows,
+)
+from cloth.pipeline.variants import Variant
 
 log = logging.getLogger("cloth")
 
@@ -16,18 +30,12 @@ def sweep_files(
 ) -> None:  # fmt: skip
     """The results of the cases in ``index`` (case, material, body, reduction), under ``root``
     /results/cases -> sweep.nc, sweep.csv, the design plot and the small multiples on the body."""
-    from cloth.io import read_netcdf, write_netcdf
-    from cloth.sweep import collect, plot_design, sweep_rows, write_rows
-
     ds = collect(index, root)
     write_netcdf(ds, output)
     rows = sweep_rows(ds)
     write_rows(rows, csv, list(rows[0]) if rows else ["material"])
     plot_design(ds, targets, plot)
     if body_plot:
-        from cloth.onbody import plot_sweep_on_body
-        from cloth.variants import Variant
-
         several = len({entry["material"] for entry in index}) > 1
 
         def label(e: dict) -> str:
@@ -44,10 +52,6 @@ def sweep_files(
 
 def design_file(sweep: Path, targets: list[dict], output: Path) -> None:
     """sweep.nc -> design.csv: the reduction that meets each target, interpolated (logged)."""
-    from cloth.io import read_netcdf
-    from cloth.sweep import design, design_header, write_rows
-    from cloth.variants import Variant
-
     rows = design(read_netcdf(sweep, "sweep", ("pressure_mean",)), targets)
     for row in rows:
         variant = Variant.of(row).label()
@@ -64,8 +68,6 @@ def design_file(sweep: Path, targets: list[dict], output: Path) -> None:
 
 def confirm_file(design: Path, root: Path, output: Path) -> None:
     """design.csv and the confirmation cases' results under ``root`` -> the confirmed CSV."""
-    from cloth.sweep import confirm, read_design, write_rows
-
     rows = confirm(read_design(design), root)
     header = list(dict.fromkeys(k for row in rows for k in row))
     write_rows(rows, output, header or ["material"])

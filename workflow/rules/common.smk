@@ -7,9 +7,9 @@ from snakemake.logging import logger
 
 from cloth import __version__ as CLOTH_VERSION
 from cloth.errors import InputError
-from cloth.plan import body_files as plan_body_files
-from cloth.plan import local_body, make_plan
-from cloth.resources import stage_resources, surface_resources
+from cloth.pipeline.plan import body_files as plan_body_files
+from cloth.pipeline.plan import local_body, make_plan
+from cloth.pipeline.resources import stage_resources, surface_resources
 
 
 wildcard_constraints:
@@ -68,7 +68,7 @@ def case_block(name):
     answer (known once the design checkpoint has run)."""
     if name in CASES:
         return CASES[name]
-    from cloth.sweep import confirm_name, read_design
+    from cloth.pipeline.sweep import confirm_name, read_design
 
     for row in read_design(checkpoints.design.get().output[0]):
         if row["status"] == "ok" and confirm_name(row) == name:
@@ -130,7 +130,7 @@ def figure_peers(wildcards):
 
 
 def confirmation_results(wildcards):
-    from cloth.sweep import confirm_name, read_design
+    from cloth.pipeline.sweep import confirm_name, read_design
 
     rows = read_design(checkpoints.design.get().output[0])
     return [
@@ -186,7 +186,7 @@ def all_outputs():
 
 def case_resource(stage, name):
     """A rule's ``resources:`` entry: ``name`` (mem_mb, MB, or runtime, minutes) that
-    ``stage`` of the job's case asks a cluster for (cloth/resources.py). A confirmation case
+    ``stage`` of the job's case asks a cluster for (cloth/pipeline/resources.py). A confirmation case
     of the design asks what the largest sweep case asks (its block is read from the design
     checkpoint, which a cluster job of this rule cannot see)."""
 

@@ -1,6 +1,6 @@
 # Stage 5: result.nc -> figures (stress maps, garment in 3D and on the body, pressure,
-# landmarks, convergence; names in cloth.plots.FIGURES), in colour ranges shared by a sweep.
-from cloth.plots import FIGURES
+# landmarks, convergence; names in cloth.figures.plots.FIGURES), in colour ranges shared by a sweep.
+from cloth.figures.plots import FIGURES
 
 
 rule figures:

@@ -1,0 +1,275 @@
+"""Figures of a result on the body (matplotlib, Agg): the garment as a coloured surface over the
+body, seen from the front, the side and the back, with its girth lines labelled.
+
+The garment is drawn as the quads of its grid (every `stride` th row and column where the grid
+is finer than `MAX_AROUND` x `MAX_UP` quads, each quad coloured by the mean of its corners), the
+body as its triangles above and below the garment, translucent, drawn first (the garment
+covers it). Faces turned away from the viewer are left out. Front is +y, the torso's front
+(docs/bodies.md), side is +x.
+
+Colour ranges are given by the caller (the same for every case of a sweep, so that figures
+compare); values outside them take the colour bar's end colours.
+"""
+
+from __future__ import annotations
+
+import logging
+from collections.abc import Sequence
+from pathlib import Path
+
+import matplotlib
+
+from cloth.results.landmarks import nearest_row
+from cloth.results.pressure import MMHG
+
+matplotlib.use("Agg")
+
+import matplotlib.pyplot as plt
+import numpy as np
+import xarray as xr
+from matplotlib import cm, colors
+from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+from numpy.typing import NDArray
+
+from cloth.figures.drawing import body_triangles
+from cloth.figures.plots import save_figure
+
+log = logging.getLogger(__name__)
+
+#: Figure name -> (result variable, scale to the shown unit, colour-bar label with unit).
+FIELDS = {
+    "body_pressure": ("pressure_mmHg", 1.0, "pressure [mmHg]"),
+    "body_stress_weft": ("stress_weft", 1e-3, "weft stress [kPa]"),
+    "body_stress_warp": ("stress_warp", 1e-3, "warp stress [kPa]"),
+}
+#: View name -> the camera's azimuth, degrees (matplotlib: 0 looks from +x, 90 from +y).
+VIEWS = {"front": 90.0, "side": 0.0, "back": -90.0}
+ELEVATION = 8.0
+#: At most this many quads around and up are drawn (finer grids: every stride-th line).
+MAX_AROUND, MAX_UP = 96, 48
+#: The body is drawn this far (m) above and below the garment.
+BODY_MARGIN = 0.08
+CMAP = "viridis"
+#: The body's colour (RGBA): light grey, translucent.
+BODY_COLOUR = (0.78, 0.78, 0.8, 0.35)
+
+
+def field_range(datasets: Sequence[xr.Dataset], variable: str, scale: float = 1.0):
+    """(low, high) colour range of ``variable`` x ``scale`` over ``datasets`` (a sweep's
+    results): 0 or the 1st percentile, to the 99th percentile, of every node of every one."""
+    values = np.concatenate([np.ravel(ds[variable].values) * scale for ds in datasets])
+    values = values[np.isfinite(values)]
+    if not values.size:
+        return 0.0, 1.0
+    low, high = np.percentile(values, [1, 99])
+    low = min(0.0, float(low))
+    return low, max(float(high), low + 1e-9)
+
+
+def shared_ranges(datasets: Sequence[xr.Dataset]):
+    """Colour ranges shared by ``datasets`` (a sweep's results, in any order): stress (Pa,
+    weft and warp on one scale) and pressure (mmHg), by `field_range`."""
+    weft, warp = (field_range(datasets, f"stress_{d}") for d in ("weft", "warp"))
+    return (min(weft[0], warp[0]), max(weft[1], warp[1])), field_range(datasets, "pressure_mmHg")
+
+
+def garment_positions(ds: xr.Dataset) -> NDArray[np.float64]:
+    """Node positions of a result, (m, n, 3), m (rows bottom to top, columns around)."""
+    return np.stack([ds[c].values for c in ("x", "y", "z")], axis=-1)
+
+
+def _quads(points: NDArray, values: NDArray, closed: bool):
+    """Quads ((Q, 4, 3), m) of the grid ``points`` ((m, n, 3)) at every stride-th line, with
+    their values (the mean of their corners) and outward unit normals ((Q, 3))."""
+    m, n = values.shape
+    rows = np.unique(np.linspace(0, m - 1, min(m, MAX_UP + 1)).round().astype(int))
+    cols = np.unique(np.linspace(0, n, min(n, MAX_AROUND) + 1).round().astype(int))
+    if not closed:
+        cols = cols[cols < n]
+        cols = np.unique(np.append(cols, n - 1))
+    wrap = cols % n
+    p = points[rows][:, wrap]
+    v = values[rows][:, wrap]
+    corners = np.stack([p[:-1, :-1], p[:-1, 1:], p[1:, 1:], p[1:, :-1]], axis=2)
+    quads = corners.reshape(-1, 4, 3)
+    mean = np.stack([v[:-1, :-1], v[:-1, 1:], v[1:, 1:], v[1:, :-1]], axis=2).mean(axis=2)
+    normal = np.cross(quads[:, 2] - quads[:, 0], quads[:, 3] - quads[:, 1])
+    centre = quads.mean(axis=1)
+    axis_point = points.reshape(-1, 3).mean(axis=0)
+    outward = centre - axis_point
+    outward[:, 2] = 0.0
+    normal *= np.sign(np.sum(normal * outward, axis=1))[:, None]  # the grid may wind either way
+    normal /= np.maximum(np.linalg.norm(normal, axis=1), 1e-300)[:, None]
+    return quads, mean.ravel(), normal
+
+
+def _eye(azimuth: float) -> NDArray[np.float64]:
+    """Unit vector (3,) from the body towards a camera at ``azimuth`` (degrees), level."""
+    a = np.radians(azimuth)
+    return np.array([np.cos(a), np.sin(a), 0.0])
+
+
+def visible_quads(ds: xr.Dataset, variable: str, scale: float, azimuth: float):
+    """The garment's quads ((Q, 4, 3), m) that a camera at ``azimuth`` (degrees) sees, and
+    their values ((Q,): ``variable`` x ``scale``, the mean of their corners)."""
+    closed = bool(int(ds.attrs.get("closed", 1)))
+    quads, values, normals = _quads(garment_positions(ds), ds[variable].values * scale, closed)
+    shown = normals @ _eye(azimuth) > -0.15
+    return quads[shown], values[shown]
+
+
+def _girth_rows(ds: xr.Dataset) -> list[tuple[str, int, int]]:
+    """(landmark, its row, its index in the landmark dim) of every landmark on the garment (the
+    row the summary took, `cloth.results.landmarks.nearest_row`)."""
+    heights = ds["z"].values.mean(axis=1)
+    rows = []
+    for index, name in enumerate(ds["landmark"].values.tolist()):
+        row = nearest_row(heights, float(ds["landmark_height"][index]))
+        if row is not None:
+            rows.append((str(name), row, index))
+    return rows
+
+
+def _girth_value(ds: xr.Dataset, variable: str, scale: float, row: int, index: int) -> float:
+    if variable == "pressure_mmHg" and "pressure_mean" in ds:
+        return float(ds["pressure_mean"][index]) / MMHG  # the summary's girth-line mean
+    return float(np.nanmean(ds[variable].values[row])) * scale
+
+
+def draw_view(
+    ax,
+    ds: xr.Dataset,
+    body: tuple[NDArray, NDArray] | None,
+    variable: str,
+    scale: float,
+    norm: colors.Normalize,
+    azimuth: float,
+    unit: str = "",
+    girths: bool = True,
+) -> None:
+    """One view of the garment (coloured by ``variable`` x ``scale`` on ``norm``) over
+    ``body`` (vertices, faces; or None) on the 3D axes ``ax``, from ``azimuth`` (degrees)."""
+    points = garment_positions(ds)
+    eye = _eye(azimuth)
+    quads, values = visible_quads(ds, variable, scale, azimuth)
+    garment_colours = plt.get_cmap(CMAP)(norm(values))
+    garment = Poly3DCollection(
+        quads, facecolors=garment_colours, edgecolors=garment_colours, linewidths=0.2
+    )
+    garment.set_gid("garment")
+    low, high = float(points[..., 2].min()), float(points[..., 2].max())
+    ax.computed_zorder = False  # the body inside is drawn first, the garment over it
+    if body is not None:
+        vertices, faces = body
+        tri = vertices[faces]
+        z = tri[:, :, 2].mean(axis=1)
+        n = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+        keep = ((z < low) | (z > high)) & (n @ eye > 0)  # the garment hides the band
+        skin = Poly3DCollection(tri[keep], facecolors=BODY_COLOUR, linewidths=0, zorder=1)
+        skin.set_gid("body")
+        ax.add_collection3d(skin)
+    garment.set_zorder(2)
+    ax.add_collection3d(garment)
+    if girths:
+        for name, row, index in _girth_rows(ds):
+            line = points[row]
+            facing = (line - line.mean(axis=0)) @ eye > 0
+            seen = np.where(facing, line[:, 0], np.nan), np.where(facing, line[:, 1], np.nan)
+            ax.plot(seen[0], seen[1], line[:, 2], color="black", lw=1.0, zorder=3)
+            tip = line[np.argmax(line @ eye)]
+            value = _girth_value(ds, variable, scale, row, index)
+            ax.text(*(tip + 0.03 * eye + [0, 0, 0.012]), f"{name} {value:.3g} {unit}", fontsize=7,
+                    zorder=4, ha="center", va="bottom",
+                    bbox={"fc": "white", "alpha": 0.75, "lw": 0, "pad": 1})  # fmt: skip
+    span = np.ptp(points.reshape(-1, 3), axis=0).max() / 2 + 0.03
+    centre = (points.reshape(-1, 3).max(axis=0) + points.reshape(-1, 3).min(axis=0)) / 2
+    for setter, c in zip((ax.set_xlim, ax.set_ylim, ax.set_zlim), centre, strict=True):
+        setter(c - span, c + span)
+    ax.set_box_aspect((1, 1, 1))
+    ax.set_proj_type("ortho")
+    ax.view_init(elev=ELEVATION, azim=azimuth)
+    ax.set_axis_off()
+
+
+def body_band(ds: xr.Dataset) -> tuple[NDArray, NDArray] | None:
+    """The result's body (vertices, faces) from below to above its garment (`BODY_MARGIN`)."""
+    if "body" not in ds.attrs:
+        return None
+    z = ds["z"].values
+    return body_triangles(
+        ds.attrs["body"], float(z.min()) - BODY_MARGIN, float(z.max()) + BODY_MARGIN
+    )
+
+
+def _colour_bar(fig, axes, norm: colors.Normalize, label: str, values: NDArray) -> None:
+    """One colour bar for ``axes``, with an arrow at each end that ``values`` pass."""
+    values = values[np.isfinite(values)]
+    below = bool(values.size and values.min() < norm.vmin)
+    above = bool(values.size and values.max() > norm.vmax)
+    extend = {(False, False): "neither", (True, False): "min", (False, True): "max"}.get(
+        (below, above), "both"
+    )
+    fig.colorbar(cm.ScalarMappable(norm=norm, cmap=CMAP), ax=axes, shrink=0.75, extend=extend,
+                 label=label)  # fmt: skip
+
+
+def body_figure(
+    ds: xr.Dataset,
+    name: str,
+    value_range: tuple[float, float] | None = None,
+    body: tuple[NDArray, NDArray] | None = None,
+) -> plt.Figure:
+    """Figure ``name`` (a key of `FIELDS`) of the result ``ds``: front, side and back views of
+    the garment (polygons, gid "garment") on ``body`` (vertices, faces; gid "body"), in
+    ``value_range`` (the field's shown unit) or its own range."""
+    variable, scale, label = FIELDS[name]
+    unit = label[label.index("[") + 1 : label.index("]")]
+    low, high = value_range or field_range([ds], variable, scale)
+    norm = colors.Normalize(low, high)
+    fig = plt.figure(figsize=(12.0, 5.6), layout="constrained")
+    axes = [fig.add_subplot(1, 3, k + 1, projection="3d") for k in range(3)]
+    for ax, (view, azimuth) in zip(axes, VIEWS.items(), strict=True):
+        draw_view(ax, ds, body, variable, scale, norm, azimuth, unit)
+        ax.set_title(view)
+    _colour_bar(fig, axes, norm, label, ds[variable].values * scale)
+    status = "" if int(ds.attrs.get("converged", 1)) else " (NOT CONVERGED)"
+    fig.suptitle(f"{ds.attrs.get('fabric_name', '')}: {label.split(' [')[0]} on the body{status}")
+    return fig
+
+
+def plot_on_body(
+    ds: xr.Dataset,
+    name: str,
+    path: str | Path,
+    value_range: tuple[float, float] | None = None,
+    body: tuple[NDArray, NDArray] | None = None,
+) -> Path:
+    """`body_figure` written to ``path``."""
+    return save_figure(body_figure(ds, name, value_range, body), path)
+
+
+def plot_sweep_on_body(
+    cases: Sequence[tuple[str, float, xr.Dataset]], path: str | Path, view: str = "front"
+) -> Path:
+    """Small multiples of a sweep: the pressure on the body (one colour range) for each body
+    (rows; or material and body) and reduction (columns), from ``view``; ``cases`` is (row
+    label, reduction, result)."""
+    variable, scale, label = FIELDS["body_pressure"]
+    bodies = sorted({body for body, _, _ in cases})
+    reductions = sorted({r for _, r, _ in cases})
+    low, high = field_range([ds for _, _, ds in cases], variable, scale)
+    norm = colors.Normalize(low, high)
+    fig = plt.figure(
+        figsize=(2.6 * len(reductions) + 1.2, 3.0 * len(bodies) + 0.6), layout="constrained"
+    )
+    axes = []
+    for body, reduction, ds in cases:
+        k = bodies.index(body) * len(reductions) + reductions.index(reduction)
+        ax = fig.add_subplot(len(bodies), len(reductions), k + 1, projection="3d")
+        draw_view(ax, ds, body_band(ds), variable, scale, norm, VIEWS[view], girths=False)
+        ax.set_title(f"{body}, reduction {reduction:g}", fontsize=8)
+        axes.append(ax)
+    every = np.concatenate([np.ravel(ds[variable].values) * scale for _, _, ds in cases])
+    _colour_bar(fig, axes, norm, label, every)
+    fig.suptitle(f"pressure on the body, {view} view")
+    return save_figure(fig, path)

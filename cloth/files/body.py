@@ -1,0 +1,94 @@
+"""The body of a case's ``body`` block (docs/config.md)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from cloth.bodies.analytic import Cone, Cylinder, EllipticCylinder
+from cloth.bodies.base import Body
+from cloth.bodies.mesh import MeshBody
+from cloth.bodies.surface import FitOptions
+from cloth.bodies.torso import DEFAULT_CHART, SmoothTorso, chart_size, torso_mesh
+from cloth.bodies.torso import LANDMARKS as TORSO_LANDMARKS
+from cloth.errors import InputError
+from cloth.files.surface import smooth_body
+from cloth.io import resolve, sha256
+
+
+def body_from_config(block: dict, base_dir: str | Path = ".") -> tuple[Body, dict]:
+    """Build the body of a validated case's ``body`` block.
+
+    Returns the body and its reference for state files: the block, plus the resolved path and
+    sha256 of any file it reads.
+    """
+    ref: dict = {"block": block}
+    if "mesh" in block:
+        path = resolve(block["mesh"], base_dir)
+        smooth = block.get("surface", "smooth") == "smooth"
+        mesh = MeshBody.load(
+            path, units=block.get("units", "m"), up=block.get("up", "z"),
+            repair=bool(block.get("repair", False)), allow_holes=smooth,
+        )  # fmt: skip
+        ref.update(kind="mesh", path=str(path), sha256=sha256(path))
+        body: Body = mesh
+        if smooth:
+            options = FitOptions(
+                block.get("smoothing"), block.get("spacing"), block.get("refine"),
+                block.get("denoise"),
+            )  # fmt: skip
+            surface_file = block.get("surface_file")
+            if surface_file is not None:
+                surface_file = resolve(surface_file, base_dir)
+            body = smooth_body(mesh, options, surface_file)  # predeform records the fit
+        else:
+            ref["surface"] = {"kind": "mesh"}
+    elif "torso" in block:
+        spec = block["torso"]
+        chart_path = resolve(spec["chart"], base_dir) if "chart" in spec else DEFAULT_CHART
+        chart = chart_size(spec["size"], chart_path)
+        if spec.get("surface", "smooth") == "smooth":
+            body = SmoothTorso(chart)
+        else:
+            vertices, faces = torso_mesh(chart, spec.get("around", 128), spec.get("rings", 120))
+            body = MeshBody(vertices, faces, source=f"torso {spec['size']} ({chart_path})")
+        ref.update(kind="torso", path=str(chart_path), sha256=sha256(chart_path))
+        ref["landmarks"] = {k: chart.height[k] for k in TORSO_LANDMARKS}
+    elif "cylinder" in block:
+        body = Cylinder(**block["cylinder"])
+        ref["kind"] = "cylinder"
+    elif "elliptic_cylinder" in block:
+        body = EllipticCylinder(**block["elliptic_cylinder"])
+        ref["kind"] = "elliptic_cylinder"
+    elif "cone" in block:
+        body = Cone(**block["cone"])
+        ref["kind"] = "cone"
+    else:
+        raise InputError("no body given; use one of mesh, torso, cylinder, elliptic_cylinder, cone")
+    return body, ref
+
+
+def body_from_record(record: dict, source: str | Path = "state file") -> Body:
+    """The body of a state or result file's ``body`` record (`body_from_config`'s reference):
+    its block with every file taken from the record's resolved path, checked against its
+    sha256, and a mesh's smooth surface from the file the record names. A later stage needs no
+    base directory; a body file that has gone or changed since predeform is refused in one line
+    (from ``source``)."""
+    block = dict(record["block"])
+    path = record.get("path")
+    if path is not None:
+        if not Path(path).is_file():
+            raise InputError(f"the body's file {path} is gone; restore it or rerun predeform",
+                             source, "body")  # fmt: skip
+        if record.get("sha256") and sha256(path) != record["sha256"]:
+            raise InputError(
+                f"the body's file {path} changed since predeform (its sha256 differs); rerun "
+                "predeform", source, "body",
+            )  # fmt: skip
+        if "mesh" in block:
+            block["mesh"] = path
+        elif "torso" in block:
+            block["torso"] = {**block["torso"], "chart": path}
+    surface = record.get("surface") or {}
+    if "mesh" in block and surface.get("file"):
+        block["surface_file"] = surface["file"]
+    return body_from_config(block)[0]

@@ -1,0 +1,217 @@
+"""The result file (``result.nc``) and ``summary.csv``: everything a user needs in one file.
+
+Node fields (dims ``row``, ``col``): positions ``x``, ``y``, ``z`` (m), rest coordinates ``u``,
+``v`` (m), ``stress_weft``, ``stress_warp`` (Pa), ``strain_weft``, ``strain_warp`` (1),
+``tension_weft``, ``tension_warp`` (N m-1), ``pressure`` (Pa), ``pressure_mmHg``,
+``p_laplace`` and ``p_laplace_difference`` (Pa), ``node_area`` (m2), ``edge_support_force``
+(N), ``contact`` and ``constraint`` (flags), ``beyond_lab_range`` (flags). Spring fields (dim
+``spring``): ``spring_stress`` (Pa, signed), ``spring_slack`` (flags),
+``spring_strain`` (1), ``spring_family`` (flags), ``spring_node_a``/``_b``. Per iteration: the
+solver history. Per landmark (dim ``landmark``): ``landmark_height`` (m), ``pressure_mean``,
+``pressure_max``, ``pressure_min`` (Pa), ``tension_mean`` (N m-1). Totals: ``total_force`` and
+``total_moment`` (dim ``xyz``; N, N m) of the fabric on the body, ``normal_force`` (N, sum of
+the normal reactions), ``pressure_integral`` (N, sum of pressure x node area). Plus the fabric
+curves, the case, body and provenance attributes. CF-1.11, written atomically.
+"""
+
+from __future__ import annotations
+
+import csv
+import io as _io
+import subprocess
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from cloth.files.material import fabric_variables
+from cloth.files.state import CONSTRAINT_MEANINGS, CONTACT_MEANINGS
+from cloth.garment.state import State
+from cloth.io import atomic_output, global_attrs, node_variable, to_attr
+from cloth.results.fields import Fields
+from cloth.results.landmarks import LANDMARK_FIELDS, Landmark
+from cloth.results.pressure import MMHG
+
+KIND = "result"
+#: The solver history copied from relaxed.nc, per iteration.
+HISTORY = ("residual", "energy", "penetration", "contacts", "step", "iteration_method",
+           "turning_force")  # fmt: skip
+
+
+#: A spring strained less than this (1) is slack (rounding leaves +-1e-16 on unstrained ones).
+SLACK_STRAIN = 1e-9
+
+
+def git_revision() -> str:
+    """The source tree's git revision, or 'unknown'."""
+    try:
+        out = subprocess.run(
+            ["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True, timeout=5,
+            cwd=Path(__file__).resolve().parent,
+        )  # fmt: skip
+        return out.stdout.strip() or "unknown"
+    except (OSError, subprocess.SubprocessError):
+        return "unknown"
+
+
+def result_dataset(
+    state: State, fields: Fields, marks: list[Landmark], relaxed: xr.Dataset
+) -> xr.Dataset:
+    grid = state.grid
+    converged = int(relaxed.attrs.get("solver_converged", 0))
+    note = "" if converged else " (NOT CONVERGED)"
+    shape = (grid.m, grid.n)
+    variables = {
+        "x": node_variable(shape, state.x[:, 0], "m", "node x position"),
+        "y": node_variable(shape, state.x[:, 1], "m", "node y position"),
+        "z": node_variable(shape, state.x[:, 2], "m", "node height", positive="up"),
+        "u": node_variable(shape, grid.rest_uv[:, 0], "m", "rest coordinate along the weft"),
+        "v": node_variable(shape, grid.rest_uv[:, 1], "m", "rest coordinate along the warp"),
+        "stress_weft": node_variable(shape, fields.stress_weft, "Pa", "weft stress" + note),
+        "stress_warp": node_variable(shape, fields.stress_warp, "Pa", "warp stress" + note),
+        "strain_weft": node_variable(shape, fields.strain_weft, "1", "weft strain"),
+        "strain_warp": node_variable(shape, fields.strain_warp, "1", "warp strain"),
+        "tension_weft": node_variable(shape, fields.tension_weft, "N m-1", "weft tension"),
+        "tension_warp": node_variable(shape, fields.tension_warp, "N m-1", "warp tension"),
+        "pressure": node_variable(shape, fields.pressure, "Pa", "pressure on the body" + note),
+        "pressure_mmHg": node_variable(
+            shape, fields.pressure / MMHG, "mmHg", "pressure on the body"
+        ),
+        "p_laplace": node_variable(shape, fields.p_laplace, "Pa", "generalised Laplace pressure"),
+        "p_laplace_difference": node_variable(
+            shape, fields.p_laplace - fields.pressure, "Pa", "p_laplace minus pressure"
+        ),
+        "node_area": node_variable(shape, fields.area, "m2", "deformed tributary area of the node"),
+        "edge_support_force": node_variable(
+            shape,
+            fields.edge_support,
+            "N",
+            "vertical force of the edge support on a sliding edge node (0 elsewhere)",
+        ),
+        "contact": node_variable(
+            shape,
+            fields.on_body,
+            "1",
+            "node on the body",
+            flag_values=np.array([0, 1], np.int8),
+            flag_meanings=CONTACT_MEANINGS,
+        ),
+        "constraint": node_variable(
+            shape,
+            state.constraint,
+            "1",
+            "node movement kind",
+            flag_values=np.array([0, 1, 2], np.int8),
+            flag_meanings=CONSTRAINT_MEANINGS,
+        ),
+        "spring_stress": xr.Variable(
+            "spring",
+            fields.spring_stress,
+            {"units": "Pa", "long_name": "spring stress S/A (negative: compressed)"},
+        ),
+        "spring_slack": xr.Variable(
+            "spring",
+            (fields.spring_strain <= SLACK_STRAIN).astype(np.int8),
+            {
+                "units": "1",
+                "long_name": "spring slack or compressed (strain <= 1e-9)",
+                "flag_values": np.array([0, 1], np.int8),
+                "flag_meanings": "stretched slack_or_compressed",
+            },
+        ),
+        "spring_strain": xr.Variable(
+            "spring", fields.spring_strain, {"units": "1", "long_name": "spring strain"}
+        ),
+        "total_force": xr.Variable(
+            "xyz",
+            fields.total_force,
+            {"units": "N", "long_name": "force of the fabric on the body"},
+        ),
+        "total_moment": xr.Variable(
+            "xyz",
+            fields.total_moment,
+            {"units": "N m", "long_name": "moment of the fabric on the body about the origin"},
+        ),
+        "normal_force": xr.Variable(
+            (), fields.normal_force, {"units": "N", "long_name": "sum of the normal reactions"}
+        ),
+        "pressure_integral": xr.Variable(
+            (),
+            fields.pressure_integral,
+            {"units": "N", "long_name": "pressure integrated over the contact area"},
+        ),
+        "landmark_height": xr.Variable(
+            "landmark", [m.height for m in marks], {"units": "m", "long_name": "landmark height"}
+        ),
+    }
+    for name, (attribute, units, long_name) in LANDMARK_FIELDS.items():
+        variables[name] = xr.Variable(
+            "landmark", [getattr(m, attribute) for m in marks],
+            {"units": units, "long_name": long_name},
+        )  # fmt: skip
+    for name in ("spring_family", "spring_node_a", "spring_node_b", "rest_length", "area"):
+        variables[name] = relaxed[name].variable
+    for name in HISTORY:
+        if name in relaxed:
+            variables[name] = relaxed[name].variable
+    variables.update(fabric_variables(state.fabric))
+    coords = {
+        "row": relaxed["row"].variable,
+        "col": relaxed["col"].variable,
+        "landmark": xr.Variable("landmark", [m.name for m in marks], {"long_name": "girth line"}),
+        "xyz": xr.Variable("xyz", ["x", "y", "z"], {"long_name": "component"}),
+    }
+    attrs = global_attrs(f"cloth result: {state.fabric.name}", dict(relaxed.attrs))
+    keep = ("case", "body", "provenance", "fabric_name", "around", "n", "m", "closed")
+    attrs.update({k: relaxed.attrs[k] for k in keep if k in relaxed.attrs})
+    attrs.update({k: v for k, v in relaxed.attrs.items() if k.startswith("solver_")})
+    attrs.update(
+        {
+            "cloth_kind": KIND,
+            "git_revision": git_revision(),
+            "converged": converged,
+            "comment": ""
+            if converged
+            else "the relaxation did NOT converge: results are approximate",
+        }
+    )
+    return xr.Dataset(variables, coords=coords, attrs={k: to_attr(v) for k, v in attrs.items()})
+
+
+def summary_rows(ds: xr.Dataset, case_name: str) -> list[dict[str, object]]:
+    rows = []
+    for index, name in enumerate(ds["landmark"].values.tolist()):
+        mark = Landmark(
+            str(name), float(ds["landmark_height"][index]), -1,
+            float(ds["pressure_mean"][index]), float(ds["pressure_max"][index]),
+            float(ds["pressure_min"][index]), float(ds["tension_mean"][index]),
+        )  # fmt: skip
+        record = mark.record()
+        record.pop("row")
+        extra = {
+            name: float(ds[name])
+            for name in ("max_strain_weft", "lab_max_strain_weft", "max_strain_warp",
+                         "lab_max_strain_warp")
+            if name in ds
+        }  # fmt: skip
+        rows.append(
+            {"case": case_name, **record, **extra,
+             "converged": int(ds.attrs.get("converged", 0))}
+        )  # fmt: skip
+    return rows
+
+
+def write_summary(rows: list[dict[str, object]], path: str | Path) -> Path:
+    buffer = _io.StringIO()
+    if rows:
+        writer = csv.DictWriter(buffer, fieldnames=list(rows[0]))
+        writer.writeheader()
+        for row in rows:
+            writer.writerow(
+                {k: (f"{v:.6g}" if isinstance(v, float) else v) for k, v in row.items()}
+            )
+    else:
+        buffer.write("case,landmark\n")
+    with atomic_output(path) as tmp:
+        tmp.write_text(buffer.getvalue())
+    return Path(path)

@@ -1,0 +1,218 @@
+"""Pre-deformation: cut a tube pattern and wrap it around the body (the paper's initial state).
+
+Pattern. A tube of n nodes around (the grid's weft) and m rows up, rows at equally spaced heights
+z_j from ``bottom`` to ``top``. Rest circumference of row j: (1 - reduction) x the convex-hull
+girth of the body at z_j (a graded pattern, how compression garments are cut), or a constant
+``circumference`` (a rectangle). Warp rest length: (1 - lengthwise_reduction) (top - bottom)/(m-1).
+
+Wrapping. Each row is placed on the convex hull of the body's cross-section at its height (the
+fabric bridges concavities such as the cleavage; with ``loop_point`` only the loop enclosing
+that point, e.g. the torso between the arms; without it, where a row meets several loops, the
+largest), at equal arc length, starting at the centre back (the hull's crossing of the ray from
+its centroid towards -y) and running counter-clockwise seen from above. Nodes closer to the
+surface than ``offset`` (default 0.1 mm) are then moved to the closest surface point plus
+``offset`` along the outward normal, so every node starts on or just outside the body: signed
+distance in [0, offset] where the hull touches the body, larger where it bridges a concavity.
+
+Movement (the paper's three kinds): the lower and upper rows are ``fixed``, ``sliding`` (height
+held, free around and in/out) or ``free``; every other node is free, and any node may rest on
+the body surface (contact flag; relaxation keeps it on or outside).
+"""
+
+from __future__ import annotations
+
+import logging
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from cloth.bodies import Body, hull_polygon, loop_around, polygon_perimeter
+from cloth.bodies.sections import loop_area
+from cloth.errors import InputError
+from cloth.garment.grid import FIXED, FREE, SLIDING, build_grid
+from cloth.garment.state import State, grid_fabric
+from cloth.garment.worn import set_strains
+from cloth.materials.curves import Fabric
+from cloth.progress import progress
+
+log = logging.getLogger(__name__)
+
+EDGE_CONSTRAINT = {"fixed": FIXED, "sliding": SLIDING, "free": FREE}
+
+
+def _start(hull: NDArray[np.float64]) -> float:
+    """Arc length along ``hull`` where the ray from its centroid towards -y crosses it."""
+    centre = hull.mean(axis=0)
+    a, b = hull, np.roll(hull, -1, axis=0)
+    seg = np.linalg.norm(b - a, axis=1)
+    cumulative = np.concatenate(([0.0], np.cumsum(seg)))
+    # segment crosses the vertical line x = centre_x below the centre
+    dx = b[:, 0] - a[:, 0]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = (centre[0] - a[:, 0]) / dx
+    y = a[:, 1] + t * (b[:, 1] - a[:, 1])
+    hits = np.flatnonzero((t >= 0) & (t < 1) & (y < centre[1]))
+    if hits.size == 0:
+        return 0.0
+    k = hits[np.argmin(y[hits])]
+    return float(cumulative[k] + t[k] * seg[k])
+
+
+#: Grids above this many nodes show their progress while they are wrapped (a bar on a
+#: terminal, log lines otherwise).
+PROGRESS_NODES = 50_000
+
+
+def place_on_hull(hull: NDArray[np.float64], n: int) -> NDArray[np.float64]:
+    """n points at equal arc length on a closed counter-clockwise polygon ((H, 2)), from the
+    centre back."""
+    a, b = hull, np.roll(hull, -1, axis=0)
+    seg = np.linalg.norm(b - a, axis=1)
+    cumulative = np.concatenate(([0.0], np.cumsum(seg)))
+    perimeter = cumulative[-1]
+    s = np.mod(_start(hull) + perimeter * np.arange(n) / n, perimeter)
+    k = np.clip(np.searchsorted(cumulative, s, side="right") - 1, 0, len(seg) - 1)
+    t = (s - cumulative[k]) / seg[k]
+    return a[k] + t[:, None] * (b[k] - a[k])
+
+
+def row_hulls(
+    body: Body,
+    heights: NDArray[np.float64],
+    loop_point: list[float] | None,
+    nodes_per_row: int = 0,
+) -> list[NDArray[np.float64]]:
+    """Convex hull per row of the body's cross-section: of the loop around ``loop_point``, else
+    of the largest loop where the section has several (arms apart from the torso; logged), else
+    of the one loop. Progress is shown for grids above `PROGRESS_NODES` (`cloth.progress`)."""
+    low, high = body.z_range
+    hulls, several = [], []
+    large = len(heights) * nodes_per_row > PROGRESS_NODES
+    for z in progress(heights, desc="predeform: row sections", unit="row",
+                      show=None if large else False):  # fmt: skip
+        if not low <= z <= high:
+            raise InputError(
+                f"row height {z:.6g} m is outside the body ({low:.6g} to {high:.6g} m); choose "
+                "garment bottom and top within the body",
+                field="garment",
+            )
+        loops = body.sections(float(z))
+        if loop_point is not None:
+            loops = loop_around(loops, loop_point)
+        elif len(loops) > 1:
+            areas = [loop_area(loop) for loop in loops]
+            several.append((float(z), len(loops), max(areas) / sum(areas)))
+            loops = [loops[int(np.argmax(areas))]]
+        hulls.append(hull_polygon(loops))
+    if several:
+        log.warning(
+            "%d of %d rows (%.4g-%.4g m) meet %d section loops; the garment wraps the largest "
+            "(%.0f-%.0f %% of their area); give garment.loop_point to choose another",
+            len(several), len(heights), several[0][0], several[-1][0],
+            max(count for _, count, _ in several), 100 * min(s for *_, s in several),
+            100 * max(s for *_, s in several),
+        )  # fmt: skip
+    return hulls
+
+
+def wrap(
+    body: Body, hulls: list[NDArray], heights: NDArray, n: int, offset: float
+) -> NDArray[np.float64]:
+    """Node positions ((m*n, 3), m): each row on its hull, then lifted to >= offset outside."""
+    rows = [
+        np.column_stack([place_on_hull(hull, n), np.full(n, z)])
+        for hull, z in zip(hulls, heights, strict=True)
+    ]
+    x = np.concatenate(rows)
+    distance, closest, normal = body.query(x)
+    near = distance < offset
+    x[near] = closest[near] + offset * normal[near]
+    return x
+
+
+def predeform(
+    case: dict[str, Any],
+    fabric: Fabric,
+    body: Body,
+    body_record: dict[str, Any],
+    source: str = "case",
+) -> State:
+    """Build the initial state of a case: pattern, wrapped positions, constraints. Reads no file.
+
+    Parameters
+    ----------
+    case : dict
+        A validated case (`cloth.pipeline.config.validate_case`; docs/config.md).
+    fabric : Fabric
+        The case's material (`cloth.files.material.load_fabric`).
+    body : Body
+        The case's body (`cloth.files.body.body_from_config`).
+    body_record : dict
+        The body's record for state files (`cloth.files.body.body_from_config`'s second value);
+        a fitted surface's record is added to a copy.
+    source : str
+        Name of the case in error messages.
+    """
+    garment = case["garment"]
+    body_ref = dict(body_record)
+    n, m = garment["grid"]
+    heights = np.linspace(garment["bottom"], garment["top"], m)
+    log.info("predeform: %s nodes (%d x %d) on the body", f"{n * m:,}", n, m)
+    hulls = row_hulls(body, heights, garment.get("loop_point"), n)
+    hull_girth = np.array([polygon_perimeter(h) for h in hulls])
+    if garment.get("loop_point") is None:  # the body's own hull girth: exact for closed forms
+        whole = np.array([body.girth(float(z))[1] for z in heights])
+        one_loop = np.isclose(whole, hull_girth, rtol=1e-3)  # else: the largest of several
+        hull_girth = np.where(one_loop, whole, hull_girth)
+    if "reduction" in garment:
+        circumference = (1.0 - garment["reduction"]) * hull_girth
+    else:
+        circumference = np.full(m, float(garment["circumference"]))
+    span = (1.0 - garment["lengthwise_reduction"]) * (garment["top"] - garment["bottom"])
+    moduli = {k: float(garment[k]) for k in ("shear_modulus", "bend_modulus") if k in garment}
+    around = garment["around"]
+    worn = set_strains(garment, fabric, source)
+    if worn:  # the set lengthens the pattern in each direction (cloth.garment.worn)
+        up = "warp" if around == "weft" else "weft"
+        circumference = circumference * (1.0 + worn[around])
+        span *= 1.0 + worn[up]
+        log.info("predeform: worn garment, set strain weft %.4g, warp %.4g", *worn.values())
+    grid = build_grid(
+        n, m, circumference, np.linspace(0.0, span, m), grid_fabric(fabric, around),
+        closed=True, **moduli,
+    )  # fmt: skip
+    offset = float(garment["offset"])
+    x = wrap(body, hulls, heights, n, offset)
+    constraint = np.full(grid.n_nodes, FREE, dtype=np.int8)
+    edge = EDGE_CONSTRAINT[garment["edges"]]
+    constraint[:n] = edge
+    constraint[-n:] = edge
+    distance = body.query(x)[0]
+    contact = (distance <= offset * (1 + 1e-6) + 1e-12).astype(np.int8)
+    strain = hull_girth / circumference - 1.0
+    log.info(
+        "predeform: %d x %d grid, rows %.4g-%.4g m, hull girth %.4g-%.4g m, initial weft strain "
+        "%.4g-%.4g, %d of %d nodes on the body",
+        n, m, heights[0], heights[-1], hull_girth.min(), hull_girth.max(), strain.min(),
+        strain.max(), int(contact.sum()), grid.n_nodes,
+    )  # fmt: skip
+    record = getattr(body, "record", None)
+    if record is not None:  # a fitted surface: its smoothing and deviation from the mesh
+        body_ref["surface"] = record()
+    return State(
+        grid=grid,
+        x=x,
+        constraint=constraint,
+        on_body=contact,
+        fabric=fabric,
+        around=around,
+        case=case,
+        body=body_ref,
+        moduli=moduli,
+        attrs={
+            "offset": offset,
+            "hull_girth": hull_girth.tolist(),
+            **{f"set_strain_{d}": s for d, s in worn.items()},
+        },
+    )

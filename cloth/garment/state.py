@@ -1,0 +1,61 @@
+"""The `State` every stage hands on: a garment on a body at one stage, and the fabric as its
+grid sees it. Read from and written to ``initial.nc`` and ``relaxed.nc`` by
+`cloth.files.state`."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from cloth.garment.grid import Grid
+from cloth.materials.curves import Fabric
+
+
+@dataclass(frozen=True, eq=False)
+class State:
+    """A garment on a body at one stage.
+
+    Attributes
+    ----------
+    grid : Grid
+    x : (N, 3) float, m
+        Node positions, N = n*m, node k = j*n + i.
+    constraint : (N,) int8
+        FREE, SLIDING or FIXED.
+    on_body : (N,) int8
+        1 where the node is on the body surface (the file's ``contact`` flag).
+    fabric : Fabric
+        The fabric as ingested (weft and warp as in the lab table).
+    around : {'weft', 'warp'}
+        The fabric direction along the grid's weft (around the body).
+    case : dict
+        The validated case.
+    body : dict
+        Body reference: kind, parameters, path and sha256 of any file.
+    attrs : dict
+        Stage attributes (solver results, history, ...).
+    """
+
+    grid: Grid
+    x: NDArray[np.float64]
+    constraint: NDArray[np.int8]
+    on_body: NDArray[np.int8]
+    fabric: Fabric
+    around: str
+    case: dict[str, Any]
+    body: dict[str, Any]
+    moduli: dict[str, float] = field(default_factory=dict)
+    attrs: dict[str, Any] = field(default_factory=dict)
+
+    def with_positions(self, x: NDArray[np.float64], **changes: Any) -> State:
+        return replace(self, x=x, **changes)
+
+
+def grid_fabric(fabric: Fabric, around: str) -> Fabric:
+    """The fabric as the grid sees it: its weft family runs around the body."""
+    if around == "warp":
+        return replace(fabric, weft=fabric.warp, warp=fabric.weft)
+    return fabric

@@ -1,0 +1,142 @@
+"""Case files: load, validate against the JSON Schema, fill defaults, resolve paths.
+
+One simulation = one YAML case (schema: ``cloth/schemas/case.schema.yaml``, documented in
+docs/config.md). Errors name the file and the key path, e.g.
+``case.yaml: garment.reduction: 1.2 is greater than or equal to the maximum of 0.9``.
+"""
+
+from __future__ import annotations
+
+import copy
+from functools import cache
+from importlib import resources
+from pathlib import Path
+from typing import Any
+
+import jsonschema
+import yaml
+
+from cloth.contact.skin import check_solver, friction_settings
+from cloth.contact.tissue import tissue_from_case
+from cloth.errors import InputError
+
+BODY_KINDS = ("mesh", "torso", "cylinder", "elliptic_cylinder", "cone")
+MESH_ONLY = ("units", "up", "repair", "surface", "smoothing", "spacing", "surface_file")
+
+
+@cache
+def case_schema() -> dict[str, Any]:
+    text = resources.files("cloth").joinpath("schemas/case.schema.yaml").read_text()
+    return yaml.safe_load(text)
+
+
+def _key_path(error: jsonschema.ValidationError) -> str:
+    return ".".join(str(part) for part in error.absolute_path) or "(top level)"
+
+
+def _fill_defaults(schema: dict[str, Any], data: Any) -> None:
+    """Set the schema's defaults on missing keys of nested objects (in place)."""
+    if not isinstance(data, dict):
+        return
+    for key, sub in schema.get("properties", {}).items():
+        if key not in data and "default" in sub:
+            data[key] = copy.deepcopy(sub["default"])
+        if key in data:
+            _fill_defaults(sub, data[key])
+
+
+class ValidCase(dict):
+    """A case that `validate_case` checked and filled with defaults: validated once, where it
+    enters a process (the plan, a case file, a command's JSON); functions handed one do not
+    validate it again."""
+
+
+def validate_case(case: dict[str, Any], source: str | Path = "case") -> ValidCase:
+    """Validate a case mapping; return a copy with defaults filled (a `ValidCase`, returned as
+    it is when given one).
+
+    Raises `InputError` naming ``source`` and the key path of the first problem.
+    """
+    if isinstance(case, ValidCase):
+        return case
+    if not isinstance(case, dict):
+        raise InputError("a case must be a mapping of keys to values", source)
+    validator = jsonschema.Draft202012Validator(case_schema())
+    errors = sorted(validator.iter_errors(case), key=lambda e: (len(e.absolute_path), e.path))
+    if errors:
+        error = errors[0]
+        message = error.message
+        if error.validator == "additionalProperties":
+            message += "; check the spelling against docs/config.md"
+        raise InputError(message, source, _key_path(error))
+    case = copy.deepcopy(case)
+    body = case["body"]
+    kinds = [kind for kind in BODY_KINDS if kind in body]
+    if len(kinds) != 1:
+        raise InputError(
+            f"give exactly one of {', '.join(BODY_KINDS)} (found {', '.join(kinds) or 'none'})",
+            source,
+            "body",
+        )
+    if kinds[0] != "mesh":
+        extra = [key for key in MESH_ONLY if key in body]
+        if extra:
+            raise InputError(f"{extra[0]} applies to mesh bodies only; remove it", source, "body")
+    garment = case["garment"]
+    if ("reduction" in garment) == ("circumference" in garment):
+        raise InputError(
+            "give exactly one of reduction (graded pattern) or circumference (rectangle)",
+            source,
+            "garment",
+        )
+    if garment["bottom"] >= garment["top"]:
+        raise InputError(
+            f"bottom ({garment['bottom']} m) must be below top ({garment['top']} m)",
+            source,
+            "garment.bottom",
+        )
+    n, m = garment["grid"]
+    if n < 3 or m < 2:
+        raise InputError(
+            f"grid {n} x {m} is too small; a tube needs at least 3 nodes around and 2 up",
+            source,
+            "garment.grid",
+        )
+    _check_skin(case, source)
+    case.setdefault("solver", {})
+    _fill_defaults(case_schema(), case)
+    if kinds[0] == "mesh":
+        for key in MESH_ONLY:
+            spec = case_schema()["properties"]["body"]["properties"][key]
+            if "default" in spec:
+                body.setdefault(key, spec["default"])
+    else:
+        for key in MESH_ONLY:
+            body.pop(key, None)
+    return ValidCase(case)
+
+
+def _check_skin(case: dict[str, Any], source: str | Path) -> None:
+    """The skin models' numbers (tissue layers and bands, friction, slip length), checked where
+    the case enters, so a bad one is refused before any stage writes a file."""
+    tissue_from_case(case, str(source))
+    solver = case.get("solver") or {}
+    check_solver(case, solver.get("method", "newton"), solver.get("continuation", False), source)
+    try:
+        friction_settings(case, 1.0)
+    except InputError as exc:
+        raise InputError(exc.detail, source, exc.field) from None
+
+
+def load_case(path: str | Path) -> ValidCase:
+    """Read and validate a YAML case file."""
+    path = Path(path)
+    if not path.is_file():
+        raise InputError("case file not found; check the path", path)
+    try:
+        case = yaml.safe_load(path.read_text())
+    except yaml.YAMLError as exc:
+        mark = getattr(exc, "problem_mark", None)
+        where = f"line {mark.line + 1}" if mark else None
+        raise InputError(f"not valid YAML ({getattr(exc, 'problem', exc)})", path, where) from None
+    return validate_case(case, path)

@@ -1,0 +1,203 @@
+"""The pipeline's plan from its config: every case by name, the sweep's index, the design's
+confirmation cases, checked before any job runs. ``workflow/rules/common.smk`` keeps only the
+input functions that hand these to the rules.
+
+Names: a sweep case is ``{material}__{body}__r{reduction x 1000:03d}`` plus its skin and wear
+variant's tag (`cloth.pipeline.variants`: none for a rigid, frictionless, new one); a configured
+case keeps its key; a confirmation case is `cloth.pipeline.sweep.confirm_name`. A case's material
+becomes its ingested file ``results/materials/{material}.nc``; a mesh body's smooth surface the
+pipeline's file ``results/bodies/{name}.surface.nc``.
+
+Paths in the config are relative to the working directory. Where a path does not exist there
+but does beside the workflow (``base``: its base directory, holding the bundled ``data/``),
+the bundled file is used, so that the workflow runs from any working directory.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from cloth.bodies.torso import DEFAULT_CHART
+from cloth.bodies.torso import LANDMARKS as TORSO_LANDMARKS
+from cloth.errors import InputError
+from cloth.pipeline.config import validate_case
+from cloth.pipeline.variants import Variant, sweep_variants
+
+
+def data_path(path: str, base: str | Path | None) -> str:
+    """``path`` as given where it exists (or is absolute, or ``base`` is None), else the
+    bundled file ``base / path`` where that exists, else as given (its rule then reports it
+    missing)."""
+    given = Path(path)
+    if base is None or given.is_absolute() or given.exists():
+        return path
+    bundled = Path(base) / given
+    return str(bundled) if bundled.exists() else path
+
+
+def local_body(body: dict, name: str, base: str | Path | None = None) -> dict:
+    """A body block with its files found (`data_path`) and, for a mesh body contacted through
+    its smooth surface (the default), the pipeline's surface file of body ``name``."""
+    body = dict(body)
+    if "mesh" in body:
+        body["mesh"] = data_path(body["mesh"], base)
+        if body.get("surface", "smooth") == "smooth":
+            body = {"surface_file": f"results/bodies/{name}.surface.nc", **body}
+    if "torso" in body and "chart" in body["torso"]:
+        body["torso"] = {**body["torso"], "chart": data_path(body["torso"]["chart"], base)}
+    return body
+
+
+def reduction_tag(reduction: float) -> str:
+    """``r`` and the reduction in thousandths, three digits: 0.15 -> r150."""
+    return f"r{round(1000 * reduction):03d}"
+
+
+def sweep_name(material: str, body: str, reduction: float, variant: Variant | None = None) -> str:
+    """The name of a sweep case."""
+    tag = variant.tag() if variant is not None else ""
+    return f"{material}__{body}__{reduction_tag(reduction)}{tag}"
+
+
+@dataclass
+class Plan:
+    """The cases of a config: ``cases`` (name -> validated case block, sweep cases included),
+    ``sweep`` (name -> block of the sweep's cases, before validation) and ``index`` (one entry
+    per sweep case: case, material, body, reduction, and the variant keys the sweep varies)."""
+
+    config: dict
+    base: str | Path | None = None
+    cases: dict[str, dict] = field(default_factory=dict)
+    sweep: dict[str, dict] = field(default_factory=dict)
+    index: list[dict] = field(default_factory=list)
+
+    def case(self, name: str, block: dict | None = None) -> dict:
+        """Case ``name`` of the config (or ``block``) with its material as the ingested file,
+        validated."""
+        config = self.config
+        if block is None:
+            block = dict(config.get("cases", {})[name])
+            bodies = config.get("bodies", {})
+            same = [key for key, body in bodies.items() if body == block["body"]]
+            block["body"] = local_body(block["body"], same[0] if same else f"case-{name}",
+                                       self.base)  # fmt: skip
+        block = dict(block)
+        material = block.get("material")
+        if material not in config["materials"]:
+            raise InputError(
+                f"material {material!r} is not defined under materials "
+                f"({', '.join(sorted(config['materials']))})",
+                "config", f"cases.{name}.material",
+            )  # fmt: skip
+        block["material"] = f"results/materials/{material}.nc"
+        return validate_case(block, f"config: cases.{name}")
+
+    def sweep_block(
+        self, material: str, body: str, reduction: float, variant: Variant | None = None
+    ) -> dict:
+        """The block of the sweep's case of ``material``, ``body``, ``reduction`` and skin and
+        wear ``variant`` (default: rigid, frictionless, new)."""
+        sweep = self.config["sweep"]
+        block = {
+            "material": material,
+            "body": local_body(self.config["bodies"][body], body, self.base),
+            "garment": {**sweep["garment"], "reduction": reduction},
+            "solver": sweep.get("solver", {}),
+        }
+        if variant is None:
+            return block
+        return variant.apply(block, sweep.get("tissue_thickness"))
+
+    def design_case(self, row: dict) -> dict:
+        """The confirmation case of a design answer (a row of design.csv)."""
+        return self.sweep_block(
+            row["material"], row["body"], float(row["reduction"]), Variant.of(row)
+        )
+
+    def material_tables(self, material: str) -> list[str]:
+        """The lab table(s) of a material, found (`data_path`)."""
+        table = self.config["materials"][material]["table"]
+        tables = [table] if isinstance(table, str) else list(table)
+        return [data_path(t, self.base) for t in tables]
+
+
+def _expand_sweep(plan: Plan) -> None:
+    sweep = plan.config.get("sweep")
+    if not sweep:
+        return
+    bodies = plan.config.get("bodies", {})
+    for key, names, pool in (
+        ("sweep.materials", sweep["materials"], plan.config["materials"]),
+        ("sweep.bodies", sweep["bodies"], bodies),
+    ):
+        for name in names:
+            if name not in pool:
+                raise InputError(
+                    f"{name!r} is not defined ({', '.join(sorted(pool)) or 'none defined'})",
+                    "config", key,
+                )  # fmt: skip
+    finite = [v for v in sweep.get("tissue_moduli", []) if v is not None and v != float("inf")]
+    if finite and "tissue_thickness" not in sweep:
+        raise InputError(
+            "tissue_moduli needs tissue_thickness (m), the layer's thickness",
+            "config", "sweep.tissue_thickness",
+        )  # fmt: skip
+    variants = sweep_variants(sweep)
+    for material in sweep["materials"]:
+        for body in sweep["bodies"]:
+            for reduction in sweep["reductions"]:
+                for keys, variant in variants:
+                    name = sweep_name(material, body, reduction, variant)
+                    plan.sweep[name] = plan.sweep_block(material, body, reduction, variant)
+                    plan.index.append({"case": name, "material": material, "body": body,
+                                       "reduction": reduction, **keys})  # fmt: skip
+
+
+def check_targets(config: dict) -> None:
+    """Targets need one pressure and a girth line the sweep's bodies have (known in advance:
+    the torso's four lines; other bodies get 'middle' or girth_min_N / girth_max_N)."""
+    sweep = config.get("sweep") or {}
+    bodies = [config.get("bodies", {}).get(name, {}) for name in sweep.get("bodies", [])]
+    torso_only = bool(bodies) and all("torso" in body for body in bodies)
+    for number, target in enumerate(config.get("targets", [])):
+        where = f"targets.{number}"
+        if ("pressure_mmHg" in target) == ("pressure_kPa" in target):
+            raise InputError("give exactly one of pressure_mmHg or pressure_kPa", "config", where)
+        name = target["landmark"]
+        if torso_only and name not in TORSO_LANDMARKS:
+            raise InputError(
+                f"unknown landmark {name!r}; the torso has {', '.join(TORSO_LANDMARKS)}",
+                "config", f"{where}.landmark",
+            )  # fmt: skip
+        if not (name in TORSO_LANDMARKS or name == "middle" or name.startswith("girth_")):
+            raise InputError(
+                f"unknown landmark {name!r}; use hip, waist, underbust, bust (torso), middle, "
+                "or girth_min_N / girth_max_N (other bodies)",
+                "config", f"{where}.landmark",
+            )  # fmt: skip
+
+
+def make_plan(config: dict, base: str | Path | None = None) -> Plan:
+    """The plan of a (schema-validated) config, every case validated; `InputError` naming the
+    config key on the first problem."""
+    plan = Plan(config, base)
+    _expand_sweep(plan)
+    check_targets(config)
+    for name in plan.sweep:
+        if name in config.get("cases", {}):
+            raise InputError("a case of this name is also in the sweep", "config", f"cases.{name}")
+    plan.cases = {name: plan.case(name) for name in config.get("cases", {})}
+    plan.cases.update({name: plan.case(name, block) for name, block in plan.sweep.items()})
+    return plan
+
+
+def body_files(block: dict) -> list[str]:
+    """Files a case's body reads (mesh and its surface file, or size chart), so that editing
+    them reruns the case."""
+    body = block["body"]
+    if "mesh" in body:
+        return [body["mesh"], *([body["surface_file"]] if "surface_file" in body else [])]
+    if "torso" in body:
+        return [body["torso"].get("chart", str(DEFAULT_CHART))]
+    return []

@@ -1,0 +1,283 @@
+"""Sweeps and the design answer: which pattern reduction gives the target pressure?
+
+`collect` stacks the landmark summaries of a sweep's results into one dataset with dims
+``material`` x ``body`` x ``reduction`` (x ``tissue_modulus`` x ``friction`` x ``worn``, those
+the sweep varies: `cloth.pipeline.variants`) x ``landmark`` (pressure in Pa). `design` answers each
+target (a girth line and a pressure) per material and body by linear interpolation of the mean
+pressure on that line against the reduction; the pipeline then confirms each answer with an
+extra relaxed case at the found reduction (`confirm`), reporting the confirmed pressure and its
+error. A target no reduction in the swept range reaches gets a clear message instead.
+"""
+
+from __future__ import annotations
+
+import csv
+import io as _io
+import itertools
+import json
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from cloth.errors import InputError
+from cloth.figures.plots import plt, save_figure
+from cloth.io import atomic_output, global_attrs, read_netcdf
+from cloth.pipeline.variants import COORDINATES, KEYS, Variant, entry_keys
+from cloth.results.landmarks import LANDMARK_FIELDS
+from cloth.results.pressure import MMHG, RAL_CLASSES
+
+FIELDS = {name: (units, long_name) for name, (_, units, long_name) in LANDMARK_FIELDS.items()}
+
+
+def _dims(index: list[dict]) -> tuple[str, ...]:
+    return ("material", "body", "reduction", *entry_keys(index))
+
+
+def collect(index: list[dict], root: str | Path = ".") -> xr.Dataset:
+    """Stack ``results/cases/{case}/result.nc`` of every index entry (case, material, body,
+    reduction, and the variant keys the sweep varies: `cloth.pipeline.variants`) into the sweep
+    dataset, a dimension per key and the ``landmark``."""
+    dims = _dims(index)
+    values = {
+        dim: sorted({e[dim] if dim in ("material", "body") else float(e[dim]) for e in index})
+        for dim in dims
+    }
+    results = {}
+    landmarks: list[str] = []
+    for entry in index:
+        path = Path(root) / "results" / "cases" / entry["case"] / "result.nc"
+        ds = read_netcdf(path, "result", ("pressure_mean",))
+        results[entry["case"]] = ds
+        for name in ds["landmark"].values.tolist():
+            if name not in landmarks:
+                landmarks.append(name)
+    shape = (*(len(values[dim]) for dim in dims), len(landmarks))
+    data = {name: np.full(shape, np.nan) for name in FIELDS}
+    converged = np.zeros(shape[:-1], dtype=np.int8)
+    for entry in index:
+        ds = results[entry["case"]]
+        i = tuple(
+            values[dim].index(entry[dim] if dim in ("material", "body") else float(entry[dim]))
+            for dim in dims
+        )
+        converged[i] = int(ds.attrs.get("converged", 0))
+        for k, name in enumerate(ds["landmark"].values.tolist()):
+            for field in FIELDS:
+                data[field][(*i, landmarks.index(name))] = float(ds[field][k])
+    all_dims = (*dims, "landmark")
+    variables = {
+        field: xr.Variable(all_dims, array, {"units": FIELDS[field][0],
+                                             "long_name": FIELDS[field][1]})
+        for field, array in data.items()
+    }  # fmt: skip
+    flags = {"flag_values": np.array([0, 1], np.int8), "flag_meanings": "no yes"}
+    variables["converged"] = xr.Variable(
+        dims, converged, {"units": "1", "long_name": "relaxation converged", **flags}
+    )
+    coords = {
+        "material": xr.Variable("material", values["material"], {"long_name": "fabric"}),
+        "body": xr.Variable("body", values["body"], {"long_name": "body"}),
+        "reduction": xr.Variable(
+            "reduction", np.asarray(values["reduction"]),
+            {"units": "1", "long_name": "pattern reduction"},
+        ),
+        "landmark": xr.Variable("landmark", landmarks, {"long_name": "girth line"}),
+    }  # fmt: skip
+    for key in entry_keys(index):
+        array = np.asarray(values[key], np.int8 if key == "worn" else np.float64)
+        attrs = dict(COORDINATES[key])
+        if "flag_values" in attrs:
+            attrs["flag_values"] = np.asarray(attrs["flag_values"], np.int8)
+        coords[key] = xr.Variable(key, array, attrs)
+    attrs = global_attrs("cloth sweep")
+    attrs.update({"cloth_kind": "sweep", "cases": json.dumps(index, sort_keys=True)})
+    return xr.Dataset(variables, coords=coords, attrs=attrs)
+
+
+def _combinations(ds: xr.Dataset, dims: tuple[str, ...]) -> list[dict]:
+    """Every combination of the coordinates of ``dims`` (a selection each)."""
+    return [
+        dict(zip(dims, combo, strict=True))
+        for combo in itertools.product(*(ds[dim].values.tolist() for dim in dims))
+    ]
+
+
+def variant_dims(ds: xr.Dataset) -> tuple[str, ...]:
+    """The variant dimensions of a sweep dataset (`cloth.pipeline.variants.KEYS` it has)."""
+    return tuple(key for key in KEYS if key in ds.dims)
+
+
+def sweep_rows(ds: xr.Dataset) -> list[dict[str, object]]:
+    """One row per case and girth line; where the sweep has new and worn garments, one row
+    per new case with the worn pressure beside it (``pressure_mean_mmHg_worn``, and the change
+    in %)."""
+    rows = []
+    both = "worn" in ds.dims and ds.sizes["worn"] == 2
+    dims = tuple(d for d in ("material", "body", "reduction", *variant_dims(ds))
+                 if not (both and d == "worn"))  # fmt: skip
+    for where in _combinations(ds, (*dims, "landmark")):
+        at = ds.sel(where | ({"worn": 0} if both else {}))
+        if not np.isfinite(float(at["pressure_mean"])):
+            continue
+        row = {**where, "pressure_mean_Pa": float(at["pressure_mean"]),
+               "pressure_mean_mmHg": float(at["pressure_mean"]) / MMHG,
+               "pressure_max_mmHg": float(at["pressure_max"]) / MMHG,
+               "tension_mean_N_per_m": float(at["tension_mean"]),
+               "converged": int(at["converged"])}  # fmt: skip
+        if both:
+            worn = float(ds.sel(where | {"worn": 1})["pressure_mean"])
+            row["pressure_mean_mmHg_worn"] = worn / MMHG
+            row["worn_change_percent"] = 100 * (worn / float(at["pressure_mean"]) - 1)
+        rows.append(row)
+    return rows
+
+
+def write_rows(rows: list[dict[str, object]], path: str | Path, header: list[str]) -> Path:
+    buffer = _io.StringIO()
+    writer = csv.DictWriter(buffer, fieldnames=header)
+    writer.writeheader()
+    for row in rows:
+        writer.writerow({k: (f"{v:.6g}" if isinstance(v, float) else v) for k, v in row.items()})
+    with atomic_output(path) as tmp:
+        tmp.write_text(buffer.getvalue())
+    return Path(path)
+
+
+def target_pa(target: dict) -> float:
+    return (
+        target["pressure_mmHg"] * MMHG
+        if "pressure_mmHg" in target
+        else target["pressure_kPa"] * 1e3
+    )
+
+
+def design(ds: xr.Dataset, targets: list[dict]) -> list[dict[str, object]]:
+    """The reduction reaching each target per material, body and variant (linear
+    interpolation)."""
+    rows = []
+    reductions = ds["reduction"].values
+    for target in targets:
+        landmark = target["landmark"]
+        if landmark not in ds["landmark"].values.tolist():
+            raise InputError(
+                f"unknown landmark {landmark!r}; the sweep has "
+                f"{', '.join(ds['landmark'].values.tolist())}",
+                "config",
+                "targets",
+            )
+        goal = target_pa(target)
+        for where in _combinations(ds, ("material", "body", *variant_dims(ds))):
+            p = ds["pressure_mean"].sel(where | {"landmark": landmark}).values
+            ok = np.isfinite(p)
+            row = {
+                **where, "landmark": landmark,
+                "target_Pa": goal, "target_mmHg": goal / MMHG,
+                "reduction": float("nan"), "status": "", "message": "",
+            }  # fmt: skip
+            if np.count_nonzero(ok) < 2:
+                row.update(status="no_data", message="fewer than two swept reductions")
+            elif not (p[ok].min() <= goal <= p[ok].max()):
+                row.update(
+                    status="out_of_range",
+                    message=(
+                        f"no reduction in {reductions[ok].min():.3g}-{reductions[ok].max():.3g}"
+                        f" reaches {goal / MMHG:.3g} mmHg at the {landmark}: the sweep gives "
+                        f"{p[ok].min() / MMHG:.3g}-{p[ok].max() / MMHG:.3g} mmHg; widen the "
+                        "reductions or choose another fabric"
+                    ),
+                )
+            else:
+                order = np.argsort(p[ok])
+                reduction = float(np.interp(goal, p[ok][order], reductions[ok][order]))
+                row.update(reduction=reduction, status="ok")
+            rows.append(row)
+    return rows
+
+
+DESIGN_HEADER = [
+    "material", "body", "landmark", "target_Pa", "target_mmHg", "reduction", "status", "message",
+]  # fmt: skip
+
+
+def design_header(rows: list[dict]) -> list[str]:
+    """`DESIGN_HEADER` with the variant keys the rows carry, after the body."""
+    keys = [key for key in KEYS if rows and key in rows[0]]
+    return [*DESIGN_HEADER[:2], *keys, *DESIGN_HEADER[2:]]
+
+
+def read_design(path: str | Path) -> list[dict[str, str]]:
+    with open(path, newline="") as handle:
+        return list(csv.DictReader(handle))
+
+
+def confirm_name(row: dict) -> str:
+    """The confirmation case of a design row (with its variant's tag, `cloth.pipeline.variants`)."""
+    tag = Variant.of(row).tag()
+    return f"design__{row['material']}__{row['body']}__{row['landmark']}{tag}"
+
+
+def confirm(design_rows: list[dict[str, str]], root: str | Path = ".") -> list[dict[str, object]]:
+    """The confirmed pressure of every answered target, and its error against the target."""
+    out = []
+    for row in design_rows:
+        record: dict[str, object] = dict(row)
+        if row["status"] == "ok":
+            path = Path(root) / "results" / "cases" / confirm_name(row) / "result.nc"
+            ds = read_netcdf(path, "result", ("pressure_mean",))
+            confirmed = float(ds["pressure_mean"].sel(landmark=row["landmark"]))
+            goal = float(row["target_Pa"])
+            record.update(
+                confirmed_Pa=confirmed,
+                confirmed_mmHg=confirmed / MMHG,
+                error_percent=100 * (confirmed - goal) / goal,
+                converged=int(ds.attrs.get("converged", 0)),
+            )
+        out.append(record)
+    return out
+
+
+def plot_design(ds: xr.Dataset, targets: list[dict], path: str | Path) -> Path:
+    """Landmark pressure against reduction per fabric and body, with the RAL class bands; a
+    sweep with variants draws each line at every key's first value and shades the spread that
+    each varied key causes (`cloth.pipeline.variants`)."""
+    landmarks = ds["landmark"].values.tolist()
+    fig, axes = plt.subplots(
+        1, len(landmarks), figsize=(3.6 * len(landmarks), 3.8), sharey=True, layout="constrained",
+        squeeze=False,
+    )  # fmt: skip
+    for ax, landmark in zip(axes[0], landmarks, strict=True):
+        for name, lo, hi in RAL_CLASSES[:3]:
+            ax.axhspan(lo, hi, color="tab:red", alpha=0.08)
+            ax.text(
+                ds["reduction"].values.min(), (lo + hi) / 2, f" RAL {name}", fontsize=7, va="center"
+            )
+        percent = 100 * ds["reduction"].values
+        variants = variant_dims(ds)
+        first = {dim: ds[dim].values[0] for dim in variants}  # the line: each key's first value
+        for where in _combinations(ds, ("material", "body")):
+            line = ds["pressure_mean"].sel(where | first | {"landmark": landmark}) / MMHG
+            label = ", ".join(
+                [str(v) for v in where.values()]
+                + [Variant.of({d: v for d, v in first.items()}).label()]
+            ).strip(", ")
+            (drawn,) = ax.plot(percent, line.values, "o-", label=label)
+            for hatch, dim in zip(("", "//", ".."), variants, strict=False):
+                if ds.sizes[dim] < 2:
+                    continue  # the spread each varied key causes, the others at their first
+                others = {d: v for d, v in first.items() if d != dim}
+                spread = ds["pressure_mean"].sel(where | others | {"landmark": landmark}) / MMHG
+                ax.fill_between(
+                    percent, spread.min(dim).values, spread.max(dim).values,
+                    color=drawn.get_color(), alpha=0.15, hatch=hatch,
+                    label=f"{label}: spread over {dim.replace('_', ' ')}",
+                )  # fmt: skip
+        for target in targets:
+            if target["landmark"] == landmark:
+                ax.axhline(target_pa(target) / MMHG, color="k", ls="--", lw=0.8, label="target")
+        ax.set_title(landmark)
+        ax.set_xlabel("pattern reduction [%]")
+        ax.grid(alpha=0.3)
+    axes[0][0].set_ylabel("mean pressure on the girth line [mmHg]")
+    axes[0][-1].legend(fontsize=7)
+    return save_figure(fig, path)

@@ -1,0 +1,129 @@
+"""Landmarks: the girth lines a garment is judged on, and their summaries.
+
+A landmark is a height on the body: the parametric torso's `cloth.bodies.torso.LANDMARKS` from its size
+chart, heights given in a case's ``landmarks``, or for other bodies the rows where the hull
+girth has an interior minimum or maximum (`girth_extrema`: ``girth_min_N``, ``girth_max_N``),
+else the ``middle`` row. Its summary (`Landmark`) is taken along the grid row nearest it: mean,
+max and min pressure (Pa; with mmHg, the RAL-GZ 387 class and the comfort group) and the mean
+weft tension (N m-1). `LANDMARK_FIELDS` names the summaries in result.nc and sweep.nc.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass
+from typing import Protocol
+
+import numpy as np
+from numpy.typing import NDArray
+
+from cloth.garment.grid import Grid
+from cloth.results.pressure import MMHG, comfort_group, ral_class
+
+#: The parametric torso's girth lines, bottom to top.
+
+
+class NodeFields(Protocol):
+    """What a landmark summary reads of the node fields (`cloth.results.fields.Fields`): (N,)
+    pressure (Pa), on-body flag and weft tension (N m-1)."""
+
+    pressure: NDArray[np.float64]
+    on_body: NDArray[np.int8]
+    tension_weft: NDArray[np.float64]
+
+
+#: Girth-line summary variables: Landmark attribute, units, long name (result.nc, sweep.nc).
+LANDMARK_FIELDS = {
+    "pressure_mean": ("mean", "Pa", "mean pressure on the girth line"),
+    "pressure_max": ("max", "Pa", "max pressure on the girth line"),
+    "pressure_min": ("min", "Pa", "min pressure on the girth line"),
+    "tension_mean": ("tension", "N m-1", "mean weft tension on the girth line"),
+}
+
+
+@dataclass(frozen=True)
+class Landmark:
+    """One girth line's summary (see the module docstring)."""
+
+    name: str
+    height: float  # m
+    row: int
+    mean: float  # Pa
+    max: float
+    min: float
+    tension: float  # N m-1, mean hoop tension of the row
+
+    def record(self) -> dict[str, object]:
+        """A summary row with Pa, kPa, mmHg and the classes."""
+        return {
+            "landmark": self.name,
+            "height_m": self.height,
+            "row": self.row,
+            "pressure_mean_Pa": self.mean,
+            "pressure_max_Pa": self.max,
+            "pressure_min_Pa": self.min,
+            "pressure_mean_kPa": self.mean / 1e3,
+            "pressure_mean_mmHg": self.mean / MMHG,
+            "pressure_max_mmHg": self.max / MMHG,
+            "pressure_min_mmHg": self.min / MMHG,
+            "ral_gz_387_class": ral_class(self.mean / MMHG),
+            "comfort_group": comfort_group(self.mean / 1e3),
+            "tension_weft_mean_N_per_m": self.tension,
+        }
+
+
+def nearest_row(rows_z: NDArray[np.float64], height: float) -> int | None:
+    """The grid row ((m,) mean row heights, m) nearest ``height`` (m), or None when the height
+    lies more than half the widest row spacing beyond the garment's edge rows."""
+    half = 0.5 * float(np.max(np.abs(np.diff(rows_z)))) if len(rows_z) > 1 else 0.0
+    if not rows_z.min() - half <= height <= rows_z.max() + half:
+        return None
+    return int(np.argmin(np.abs(rows_z - height)))
+
+
+def landmarks(
+    heights: dict[str, float], x: NDArray[np.float64], fields: NodeFields, grid: Grid
+) -> list[Landmark]:
+    """Pressure and tension summaries along the grid rows nearest each landmark height."""
+    rows_z = x.reshape(grid.m, grid.n, 3)[..., 2].mean(axis=1)
+    pressure = fields.pressure.reshape(grid.m, grid.n)
+    contact = fields.on_body.reshape(grid.m, grid.n).astype(bool)
+    tension = fields.tension_weft.reshape(grid.m, grid.n)
+    out = []
+    for name, height in sorted(heights.items(), key=lambda item: item[1]):
+        row = nearest_row(rows_z, height)
+        if row is None:
+            continue
+        values = np.where(contact[row], pressure[row], 0.0)
+        out.append(
+            Landmark(
+                name,
+                float(height),
+                row,
+                float(values.mean()),
+                float(values.max()),
+                float(values.min()),
+                float(np.nanmean(tension[row])),
+            )
+        )
+    return out
+
+
+def girth_extrema(state) -> dict[str, float]:
+    """Landmarks of a body without a size chart: the rows where the body's hull girth has an
+    interior minimum or maximum (e.g. a waist, a hip), else the middle row."""
+    raw = state.attrs.get("hull_girth", "[]")
+    girth = np.asarray(json.loads(raw) if isinstance(raw, str) else raw, dtype=float)
+    z = state.x.reshape(state.grid.m, state.grid.n, 3)[..., 2].mean(axis=1)
+    out: dict[str, float] = {}
+    if girth.size == state.grid.m and girth.size >= 3:
+        d = np.diff(girth)
+        scale = max(float(np.ptp(girth)), 1e-12)
+        for j in range(1, girth.size - 1):
+            if abs(d[j - 1]) < 1e-6 * scale and abs(d[j]) < 1e-6 * scale:
+                continue  # flat: a cylinder has no extrema
+            if d[j - 1] < 0 <= d[j]:
+                out[f"girth_min_{len(out) + 1}"] = float(z[j])
+            elif d[j - 1] > 0 >= d[j]:
+                out[f"girth_max_{len(out) + 1}"] = float(z[j])
+    return out or {"middle": float(0.5 * (z.min() + z.max()))}
