@@ -15,7 +15,7 @@ OPTIONAL ?=
 export PATH := $(CURDIR)/$(BIN):$(PATH)
 export MPLBACKEND := Agg
 
-.PHONY: run test test-slow test-cluster lint unit pipeline-test bench clean install
+.PHONY: run test test-slow test-cluster test-browser test-all lint unit bench clean install
 
 install: $(STAMP)
 
@@ -35,20 +35,29 @@ lint: $(STAMP)
 	$(BIN)/snakefmt --check Snakefile workflow/rules
 	$(BIN)/snakemake --lint --cores 1
 
+# the fast suite on both cores (pytest-xdist; a module's tests stay on one worker, so its
+# module-scoped fixtures are built once): every behaviour, no large grid (about 5 minutes)
 unit: $(STAMP)
-	$(BIN)/python -m pytest -q
+	$(BIN)/python -m pytest -q -n 2 --dist loadscope
 
 test: lint unit
 
-# the minutes-long acceptance cases (mesh bodies at full size); not part of CI's make test
+# large grids, full-size scans, the pipeline killed and resumed (tens of minutes; .ci/run)
 test-slow: $(STAMP)
-	$(BIN)/python -m pytest -q -m slow
+	$(BIN)/python -m pytest -q -n 2 --dist loadscope -m slow
 
 # the pipeline through a single-node SLURM started by the test (root, Debian's slurmctld, slurmd
 # and munge; the cluster extra); skipped with one line where it cannot start
 test-cluster: $(STAMP)
 	$(BIN)/python -m pip install --quiet -e '.[cluster]'
 	$(BIN)/python -m pytest -q -rs -m cluster
+
+# the interactive view drawn by a real Chromium (Debian's chromium); skipped without it
+test-browser: $(STAMP)
+	$(BIN)/python -m pytest -q -rs -m browser
+
+# everything CI runs
+test-all: test test-slow test-cluster test-browser
 
 bench: $(STAMP)
 	$(BIN)/python -m pip install --quiet -e '.[bench]'

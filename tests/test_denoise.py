@@ -65,6 +65,7 @@ def test_noise_is_taken_off_and_the_sphere_kept(subdivisions):
     assert abs(radius.mean() - np.linalg.norm(noisy, axis=1).mean()) < 2e-5
 
 
+@pytest.mark.slow  # half a minute: a fit of a noisy torso mesh; the filter's own tests stay fast
 def test_a_noisy_coarse_mesh_is_denoised_then_refined():
     """A 32-segment cylinder (facets 20 mm wide) with 1 mm of noise: filtered, its vertices
     then lie on a smooth surface again, so it is refined like the clean one (twice)."""

@@ -60,6 +60,7 @@ def test_spline_reproduces_a_linear_field_and_its_derivatives():
     assert not np.any(field.within(origin + np.array([[0.5 * h, 5 * h, 5 * h]])))
 
 
+@pytest.mark.slow  # a minute; test_laplace_on_a_meshed_cylinder_within_one_percent stays fast
 def test_sphere_and_cylinder_meshes_converge_to_the_closed_form():
     """Distance and normal errors against the body the mesh samples (docs/bodies.md). Fitted to
     the facets as they are (refine 0), they shrink with resolution: 1.5 mm / 1 deg on the

@@ -88,6 +88,7 @@ def _chromium(*args):
     return subprocess.run([CHROMIUM, *flags, *args], capture_output=True, text=True, timeout=120)
 
 
+@pytest.mark.browser
 @pytest.mark.skipif(CHROMIUM is None, reason="no chromium (Debian package chromium; .ci/run "
                     "installs it where apt is available)")  # fmt: skip
 def test_a_real_browser_draws_the_garment_without_errors(page, tmp_path):

@@ -162,6 +162,7 @@ def test_design_interpolates_and_explains_out_of_range():
         design(ds, [{"landmark": "knee", "pressure_mmHg": 20}])
 
 
+@pytest.mark.slow  # the tiny pipeline twice (1.5 min); atomic writes are tested in test_io
 def test_a_killed_run_leaves_no_corrupt_output_and_resumes(tmp_path):
     import os
     import signal
