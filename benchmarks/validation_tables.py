@@ -98,7 +98,7 @@ def cone_table() -> str:
     the warp stretched too: the Laplace diagnostic and the edge rows' shares."""
     import tempfile
 
-    from cloth.files.relaxed import Relaxation, relaxed_dataset
+    from cloth.files.relaxed import relaxed_dataset
     from cloth.io import write_netcdf
     from cloth.stages import aggregate
 
@@ -119,7 +119,7 @@ def cone_table() -> str:
             solid, _ = body_from_config(state.case["body"])
             settings = Settings(tolerance=1e-10, max_iterations=60, progress=False)
             result = relax(state, solid, settings)
-            ds = relaxed_dataset(state, Relaxation.of(result, settings))
+            ds = relaxed_dataset(state, result, settings)
             out, _ = aggregate(write_netcdf(ds, folder / f"{name}{lengthwise}.nc"))
             p = out["pressure"].values
             inner = out["contact"].values[1:-1].astype(bool)

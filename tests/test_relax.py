@@ -316,7 +316,7 @@ def test_factorisations_and_peak_memory_are_recorded(monkeypatch):
     """Every linear system a run factorises is counted (here against a count of the backend's
     calls), at least one per Newton iteration, and relaxed.nc records the count and the peak
     memory."""
-    from cloth.files.relaxed import Relaxation, relaxed_dataset
+    from cloth.files.relaxed import relaxed_dataset
     from cloth.solvers import linear
 
     calls = []
@@ -327,7 +327,7 @@ def test_factorisations_and_peak_memory_are_recorded(monkeypatch):
     result = solve(state)
     assert result.iterations > 0 and result.factorisations == len(calls) >= result.iterations
     assert result.peak_memory > 2**20
-    ds = relaxed_dataset(state, Relaxation.of(result, Settings()))
+    ds = relaxed_dataset(state, result, Settings())
     assert ds.attrs["solver_factorisations"] == len(calls)
     assert ds.attrs["solver_peak_memory_mib"] == pytest.approx(result.peak_memory / 2**20)
 

@@ -17,10 +17,10 @@ from tests.test_relax import THICKNESS, solve, tube
 
 
 def relaxed_file(tmp_path, state, result, settings_tol=1e-10):
-    from cloth.files.relaxed import Relaxation, relaxed_dataset
+    from cloth.files.relaxed import relaxed_dataset
     from cloth.solvers import Settings
 
-    ds = relaxed_dataset(state, Relaxation.of(result, Settings(tolerance=settings_tol)))
+    ds = relaxed_dataset(state, result, Settings(tolerance=settings_tol))
     return write_netcdf(ds, tmp_path / "relaxed.nc")
 
 

@@ -19,17 +19,15 @@ lagged quantities, `cloth.solvers.lagged`) and the friction variables of `cloth.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-
 import numpy as np
 import xarray as xr
-from numpy.typing import NDArray
 
 from cloth.files.skin import friction_variables
 from cloth.files.state import state_dataset
 from cloth.garment.state import State
 from cloth.solvers.common import History, Settings
 from cloth.solvers.problem import turning_gauge
+from cloth.solvers.relax import Result
 
 
 def history_variables(history: History) -> dict[str, xr.Variable]:
@@ -60,47 +58,17 @@ def history_variables(history: History) -> dict[str, xr.Variable]:
     }
 
 
-@dataclass(frozen=True)
-class Relaxation:
-    """What a relaxation produced, as the relaxed file records it: final positions ``x``
-    ((N, 3), m), the on-body flag ((N,)), the history, the settings, and the solver's facts
-    (``seconds``, s; ``peak_memory``, bytes)."""
-
-    x: NDArray[np.float64]
-    on_body: NDArray
-    history: History
-    settings: Settings
-    converged: bool
-    iterations: int
-    linear_solver: str
-    seconds: float = 0.0
-    factorisations: int = 0
-    peak_memory: float = 0.0
-    lags: int = 0
-    friction: dict = field(default_factory=dict)
-
-    @classmethod
-    def of(cls, result, settings: Settings) -> Relaxation:
-        """From `cloth.solvers.relax`'s result."""
-        final = result.final
-        return cls(final.x, final.on_body, result.history, settings, result.converged,
-                   result.iterations, result.linear_solver, result.seconds,
-                   result.factorisations, result.peak_memory, result.lags,
-                   result.friction)  # fmt: skip
-
-    @classmethod
-    def diverged(cls, error, state: State, settings: Settings) -> Relaxation:
-        """From a `cloth.solvers.Diverged`: its last finite positions, not converged."""
-        return cls(error.x, state.on_body, error.history, settings, False,
-                   len(error.history) - 1, settings.linear_solver)  # fmt: skip
-
-
 def relaxed_dataset(
-    state: State, run: Relaxation, previous: dict | None = None, stage: str = "relaxed"
+    state: State,
+    run: Result,
+    settings: Settings,
+    previous: dict | None = None,
+    stage: str = "relaxed",
 ) -> xr.Dataset:
-    """The ``relaxed.nc`` dataset of ``state`` relaxed by ``run`` (``stage="diverged"`` for
-    the last finite state of a failure); ``previous``: the initial file's attributes."""
-    x, on_body, history, settings = run.x, run.on_body, run.history, run.settings
+    """The ``relaxed.nc`` dataset of ``state`` relaxed by ``run`` with ``settings``
+    (``stage="diverged"`` for the last finite state of a failure, `Result.diverged`);
+    ``previous``: the initial file's attributes."""
+    x, on_body, history = run.final.x, run.final.on_body, run.history
     converged, iterations, linear_solver, seconds = (
         run.converged, run.iterations, run.linear_solver, run.seconds
     )  # fmt: skip

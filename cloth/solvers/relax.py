@@ -51,6 +51,13 @@ class Result:
     lags: int = 0
     friction: dict[str, NDArray] = field(default_factory=dict)
 
+    @classmethod
+    def diverged(cls, error: Diverged, final: Evaluation, settings: Settings) -> Result:
+        """A run that diverged (`Diverged`): ``final``, its last finite positions evaluated,
+        not converged, after the iterations its history holds."""
+        return cls(final, error.history, False, len(error.history) - 1, settings.method,
+                   settings.linear_solver, 0.0)  # fmt: skip
+
 
 def _record(history: History, problem: Problem, ev: Evaluation, step: float, method: int) -> None:
     history.record(

@@ -16,7 +16,7 @@ from cloth.errors import EXIT_DIVERGED, StageFailed
 from cloth.figures.plots import plot_garment_3d
 from cloth.files.body import body_from_config, body_from_record
 from cloth.files.material import load_fabric
-from cloth.files.relaxed import Relaxation, relaxed_dataset
+from cloth.files.relaxed import relaxed_dataset
 from cloth.files.state import read_state, state_dataset
 from cloth.garment.mechanics import spring_state
 from cloth.garment.predeform import predeform
@@ -26,6 +26,8 @@ from cloth.pipeline import guard
 from cloth.pipeline.config import load_case, validate_case
 from cloth.pipeline.resources import grid_nodes
 from cloth.solvers import Diverged, Settings, relax
+from cloth.solvers.problem import Problem
+from cloth.solvers.relax import Result
 from cloth.stages.results import figures, view, write_result
 
 log = logging.getLogger("cloth")
@@ -92,14 +94,14 @@ def relax_state(state, overrides: dict, output: Path, previous: dict | None = No
         result = relax(state, body, settings)
     except Diverged as exc:
         failed = output.with_name(output.stem + ".diverged.nc")
-        run = Relaxation.diverged(exc, state, settings)
-        write_netcdf(relaxed_dataset(state, run, previous, stage="diverged"), failed)
+        run = Result.diverged(exc, Problem.of(state, body).evaluate(exc.x), settings)
+        write_netcdf(relaxed_dataset(state, run, settings, previous, stage="diverged"), failed)
         raise StageFailed(
             f"relaxation diverged ({exc}); the last finite state is in {failed}; try method "
             "explicit+newton or a smaller reduction",
             EXIT_DIVERGED,
         ) from None
-    write_netcdf(relaxed_dataset(state, Relaxation.of(result, settings), previous), output)
+    write_netcdf(relaxed_dataset(state, result, settings, previous), output)
     log.info("wrote %s", output)
 
 
