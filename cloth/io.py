@@ -188,10 +188,11 @@ def node_variable(
     return variable(("row", "col"), np.asarray(values).reshape(shape), units, long_name, **attrs)
 
 
-def flag_variable(dims, values, long_name: str, meanings: str) -> xr.Variable:
-    """A CF flag variable: int8 ``values`` 0, 1, ... meaning the words of ``meanings``."""
+def flag_variable(shape: tuple[int, int], values, long_name: str, meanings: str) -> xr.Variable:
+    """A per-node CF flag variable (`node_variable`): ``values`` 0, 1, ... meaning the words of
+    ``meanings``."""
     count = len(meanings.split())
-    return variable(
-        dims, values, "1", long_name,
+    return node_variable(
+        shape, values, "1", long_name,
         flag_values=np.arange(count, dtype=np.int8), flag_meanings=meanings,
     )  # fmt: skip

@@ -11,12 +11,11 @@ by u = -d and the layer pushes it out along the skin's normal n with the force
 
     lambda = k u,  k = E A / h  (N m-1),
 
-A the node's tributary area (`cloth.garment.grid.node_area`), so that
-p = lambda / A = E u / h. The
-layer's energy is p^2 h / (2 E) per area, k u^2 / 2 per node, its force -k d n and its Hessian
-k (n n^T + d grad^2 d) (grad^2 d the Hessian of the signed distance: the skin's curvature). A is
-lagged: frozen while Newton solves, updated from the solution, until it stops changing
-(`cloth.solvers.lagged`), so at equilibrium p = E u / h holds with the deformed areas.
+A the node's tributary area (`cloth.garment.grid.node_area`), so that p = lambda / A = E u / h.
+The layer's energy is p^2 h / (2 E) per area, k u^2 / 2 per node, its force -k d n and its
+Hessian k (n n^T + d grad^2 d) (grad^2 d the Hessian of the signed distance: the skin's
+curvature). A is lagged: frozen while Newton solves, updated from the solution, until it stops
+changing (`cloth.solvers.lagged`), so at equilibrium p = E u / h holds with the deformed areas.
 
 Limits: the layer is linear and local, so it knows nothing of the tissue's incompressibility or
 its spreading of a load sideways; u must stay below h (beyond, the node would be in the core:

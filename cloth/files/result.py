@@ -27,7 +27,7 @@ import xarray as xr
 from cloth.files.material import fabric_variables
 from cloth.files.state import CONSTRAINT_MEANINGS, CONTACT_MEANINGS
 from cloth.garment.state import State
-from cloth.io import atomic_output, global_attrs, node_variable, to_attr
+from cloth.io import atomic_output, flag_variable, global_attrs, node_variable, to_attr
 from cloth.results.fields import Fields
 from cloth.results.landmarks import LANDMARK_FIELDS, Landmark
 from cloth.results.pressure import MMHG
@@ -88,21 +88,9 @@ def result_dataset(
             "N",
             "vertical force of the edge support on a sliding edge node (0 elsewhere)",
         ),
-        "contact": node_variable(
-            shape,
-            fields.on_body,
-            "1",
-            "node on the body",
-            flag_values=np.array([0, 1], np.int8),
-            flag_meanings=CONTACT_MEANINGS,
-        ),
-        "constraint": node_variable(
-            shape,
-            state.constraint,
-            "1",
-            "node movement kind",
-            flag_values=np.array([0, 1, 2], np.int8),
-            flag_meanings=CONSTRAINT_MEANINGS,
+        "contact": flag_variable(shape, fields.on_body, "node on the body", CONTACT_MEANINGS),
+        "constraint": flag_variable(
+            shape, state.constraint, "node movement kind", CONSTRAINT_MEANINGS
         ),
         "spring_stress": xr.Variable(
             "spring",

@@ -16,7 +16,7 @@ import xarray as xr
 from numpy.typing import NDArray
 
 from cloth.garment.grid import Grid
-from cloth.io import node_variable
+from cloth.io import flag_variable, node_variable
 
 FRICTION_MEANINGS = "off_skin stick slip"
 
@@ -26,17 +26,16 @@ def friction_variables(grid: Grid, friction: dict[str, NDArray]) -> dict[str, xr
     it is empty)."""
     if not friction:
         return {}
-    force = friction["force"]
+    force, shape = friction["force"], (grid.m, grid.n)
     out = {
         f"friction_force_{axis}": node_variable(
-            (grid.m, grid.n), force[:, k], "N", f"skin friction force {axis}"
+            shape, force[:, k], "N", f"skin friction force {axis}"
         )
         for k, axis in enumerate("xyz")
     }
-    out["friction_state"] = node_variable(
-        (grid.m, grid.n), friction["state"], "1", "friction state of the node",
-        flag_values=np.array([0, 1, 2], np.int8), flag_meanings=FRICTION_MEANINGS,
-    )  # fmt: skip
+    out["friction_state"] = flag_variable(
+        shape, friction["state"], "friction state of the node", FRICTION_MEANINGS
+    )
     return out
 
 
@@ -44,28 +43,29 @@ def result_skin_variables(grid: Grid, ev, relaxed: xr.Dataset, layer=None) -> di
     """result.nc's skin variables: friction copied from ``relaxed`` with its magnitude; the
     tissue's from the final evaluation ``ev`` and the ``layer`` (`cloth.contact.tissue.Layer`)."""
     out: dict[str, xr.Variable] = {}
+    shape = (grid.m, grid.n)
     if "friction_force_x" in relaxed:
         parts = [relaxed[f"friction_force_{axis}"] for axis in "xyz"]
         out.update({part.name: part.variable for part in parts})
         out["friction_state"] = relaxed["friction_state"].variable
         magnitude = np.sqrt(sum(part.values**2 for part in parts))
         out["friction_force"] = node_variable(
-            (grid.m, grid.n), magnitude, "N", "skin friction force magnitude"
+            shape, magnitude, "N", "skin friction force magnitude"
         )
     if layer is not None and ev.indentation is not None:
         out["skin_distance"] = node_variable(
-            (grid.m, grid.n),
+            shape,
             ev.distance,
             "m",
             "signed distance from the undeformed skin (inside < 0)",
         )
         out["indentation"] = node_variable(
-            (grid.m, grid.n), ev.indentation, "m", "indentation of the soft tissue"
+            shape, ev.indentation, "m", "indentation of the soft tissue"
         )
         out["tissue_thickness"] = node_variable(
-            (grid.m, grid.n), layer.thickness, "m", "soft tissue thickness"
+            shape, layer.thickness, "m", "soft tissue thickness"
         )
         out["tissue_modulus"] = node_variable(
-            (grid.m, grid.n), layer.modulus, "Pa", "soft tissue Young's modulus"
+            shape, layer.modulus, "Pa", "soft tissue Young's modulus"
         )
     return out

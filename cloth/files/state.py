@@ -34,7 +34,7 @@ from cloth.errors import InputError
 from cloth.files.material import fabric_from_dataset, fabric_variables
 from cloth.garment.grid import FAMILIES, Grid, StressStrainCurve
 from cloth.garment.state import State, grid_fabric
-from cloth.io import flag_variable, global_attrs, read_netcdf, to_attr, variable
+from cloth.io import flag_variable, global_attrs, node_variable, read_netcdf, to_attr, variable
 
 KIND = "state"
 FORMAT_VERSION = 1
@@ -54,22 +54,16 @@ def state_dataset(state: State, stage: str, previous: dict[str, Any] | None = No
     x = state.x.reshape(grid.m, grid.n, 3)
     uv = grid.rest_uv.reshape(grid.m, grid.n, 2)
     variables = {
-        "x": variable(("row", "col"), x[..., 0], "m", "node x position", axis="X"),
-        "y": variable(("row", "col"), x[..., 1], "m", "node y position"),
-        "z": variable(("row", "col"), x[..., 2], "m", "node height", positive="up"),
-        "u": variable(("row", "col"), uv[..., 0], "m", "rest coordinate along the weft"),
-        "v": variable(("row", "col"), uv[..., 1], "m", "rest coordinate along the warp"),
+        "x": node_variable(shape, x[..., 0], "m", "node x position", axis="X"),
+        "y": node_variable(shape, x[..., 1], "m", "node y position"),
+        "z": node_variable(shape, x[..., 2], "m", "node height", positive="up"),
+        "u": node_variable(shape, uv[..., 0], "m", "rest coordinate along the weft"),
+        "v": node_variable(shape, uv[..., 1], "m", "rest coordinate along the warp"),
         "constraint": flag_variable(
-            ("row", "col"),
-            state.constraint.reshape(shape).astype(np.int8),
-            "node movement kind",
-            CONSTRAINT_MEANINGS,
+            shape, state.constraint.astype(np.int8), "node movement kind", CONSTRAINT_MEANINGS
         ),
         "contact": flag_variable(
-            ("row", "col"),
-            state.on_body.reshape(shape).astype(np.int8),
-            "node on the body",
-            CONTACT_MEANINGS,
+            shape, state.on_body.astype(np.int8), "node on the body", CONTACT_MEANINGS
         ),
         "spring_node_a": variable("spring", grid.ends[:, 0].astype(np.int32), "1", "first node"),
         "spring_node_b": variable("spring", grid.ends[:, 1].astype(np.int32), "1", "second node"),
