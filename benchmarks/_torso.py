@@ -25,4 +25,4 @@ def torso_case(grid: str):
                     "edges": "sliding"},
     }  # fmt: skip
     state = initial_state(case)
-    return n, m, state, body_from_config(state.case["body"])[0]
+    return n, m, state, body_from_config(state.case.body.block)[0]

@@ -36,7 +36,7 @@ def seconds_to(result, level: float) -> str:
 
 def run(case: dict, method: str, solver: str, iterations: int):
     state = initial_state(case)
-    body, _ = body_from_config(state.case["body"])
+    body, _ = body_from_config(state.case.body.block)
     settings = Settings(
         method=method, tolerance=1e-8, max_iterations=iterations, linear_solver=solver,
         progress=False, log_every=0, warm_start=100,

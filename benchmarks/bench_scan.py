@@ -61,7 +61,7 @@ def main() -> None:
             }  # fmt: skip
             start = time.perf_counter()
             state = initial_state(case)
-            body, _ = body_from_config(state.case["body"])
+            body, _ = body_from_config(state.case.body.block)
             prepared = time.perf_counter() - start
             settings = Settings(
                 tolerance=1e-8, max_iterations=iterations, linear_solver="superlu",

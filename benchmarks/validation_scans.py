@@ -58,7 +58,7 @@ def run(body: dict, grid: tuple[int, int], mesh=None) -> dict:
             "garment": {**GARMENT, "grid": list(grid)}}  # fmt: skip
     start = time.perf_counter()
     state = initial_state(case)
-    solid, _ = body_from_config(state.case["body"])
+    solid, _ = body_from_config(state.case.body.block)
     settings = Settings(tolerance=1e-8, max_iterations=150, progress=False, log_every=0)
     result = relax(state, solid, settings)
     ev = result.final

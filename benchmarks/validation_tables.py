@@ -32,7 +32,7 @@ def solve(body: dict, reduction: float, n: int, around: str = "weft"):
                     "edges": "sliding", "around": around},
     }  # fmt: skip
     state = initial_state(case)
-    solid, _ = body_from_config(state.case["body"])
+    solid, _ = body_from_config(state.case.body.block)
     result = relax(state, solid, Settings(tolerance=1e-10, max_iterations=60, progress=False))
     ev = result.final
     reaction = contact_reaction(ev.forces, ev.unbalanced, ev.on_body)
@@ -116,7 +116,7 @@ def cone_table() -> str:
                             "edges": "sliding", "lengthwise_reduction": lengthwise},
             }  # fmt: skip
             state = initial_state(case)
-            solid, _ = body_from_config(state.case["body"])
+            solid, _ = body_from_config(state.case.body.block)
             settings = Settings(tolerance=1e-10, max_iterations=60, progress=False)
             result = relax(state, solid, settings)
             ds = relaxed_dataset(state, result, settings)

@@ -14,7 +14,7 @@ MAX_LINES = 400
 #: above (docs/architecture.md). "" is the ground floor: cloth itself, errors, io, progress.
 ORDER = (
     "cli", "stages", "pipeline", "files", "figures", "results", "solvers", "contact", "garment",
-    "bodies", "materials", "",
+    "case", "bodies", "materials", "",
 )  # fmt: skip
 #: Modules outside the order: ``python -m cloth`` is the command line itself.
 TOP = {"cloth.__main__": "cli"}
@@ -182,3 +182,25 @@ def test_the_imports_of_cloth_have_no_cycle():
 def test_no_module_is_over_400_lines():
     sizes = {name: len(path.read_text().splitlines()) for name, path in _modules().items()}
     assert {name: n for name, n in sizes.items() if n > MAX_LINES} == {}
+
+
+def case_readers(packages: tuple[str, ...] = ("solvers", "contact")) -> list[str]:
+    """Modules of ``packages`` that read a case: ``<x>.case`` or import the `Case` type. The
+    solvers and the skin models take `Settings` and `Skin`, never the case
+    (docs/architecture.md)."""
+    found = []
+    for name, path in _modules().items():
+        if name.split(".")[1:2] and name.split(".")[1] in packages:
+            for node in ast.walk(ast.parse(path.read_text())):
+                reads = isinstance(node, ast.Attribute) and node.attr == "case"
+                imports = isinstance(node, ast.ImportFrom) and any(
+                    alias.name == "Case" for alias in node.names
+                )
+                if reads or imports:
+                    found.append(f"{name}:{node.lineno}")
+    return found
+
+
+def test_solvers_and_skin_models_never_read_the_case():
+    assert case_readers() == []
+    assert case_readers(("stages",))  # the walk sees reads: the stages hand the case on

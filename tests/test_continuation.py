@@ -49,7 +49,7 @@ def test_continuation_reaches_the_same_equilibrium(body, grid, bottom, top, coar
     the last steps quadratic, and fewer Newton iterations on the fine grid (torso 96 x 48:
     measured 13 plain, 8 after one coarse level)."""
     state = state_on(body, grid, bottom, top)
-    solid, _ = body_from_config(state.case["body"])
+    solid, _ = body_from_config(state.case.body.block)
     results = {}
     for continued in (False, True):
         settings = Settings(tolerance=1e-10, max_iterations=60, progress=False, log_every=0,
@@ -100,7 +100,7 @@ def test_reusing_factorisations_reaches_the_same_equilibrium(
 
     monkeypatch.setattr(newton.Newton, "__init__", keep)
     state = state_on(body, grid, bottom, top)
-    solid, _ = body_from_config(state.case["body"])
+    solid, _ = body_from_config(state.case.body.block)
     results = {}
     for reuse in (False, True):
         settings = Settings(tolerance=1e-10, max_iterations=60, progress=False, log_every=0,

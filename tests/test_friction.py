@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from cloth.case import Contact, Skin
 from cloth.contact.friction import Friction
 from cloth.errors import InputError
 from cloth.files.body import body_from_config
@@ -46,8 +47,9 @@ def strip(arc_nodes=100, straight=0.1, pretension=0.05):
 
 
 def relaxed(grid, x, constraint, fabric, mu):
-    case = {"contact": {"friction": mu}} if mu else {}
-    state = State(grid, x, constraint, np.zeros(len(x), np.int8), fabric, "weft", case, {})
+    skin = Skin(contact=Contact(friction=mu))  # a hand-built state: no case, only its skin
+    state = State(grid, x, constraint, np.zeros(len(x), np.int8), fabric, "weft", None, {},
+                  skin=skin)  # fmt: skip
     body, _ = body_from_config(CYLINDER)
     result = relax(state, body, SETTINGS)
     assert result.converged

@@ -128,7 +128,7 @@ def test_cholmod_with_reuse_reaches_superlus_equilibrium():
     from tests.test_continuation import state_on
 
     state = state_on({"torso": {"size": "M"}}, [96, 48], 0.80, 1.25)
-    solid, _ = body_from_config(state.case["body"])
+    solid, _ = body_from_config(state.case.body.block)
     results = {}
     for name, reuse in (("superlu", False), ("cholmod", False), ("cholmod", True)):
         settings = Settings(tolerance=1e-10, max_iterations=60, progress=False, log_every=0,
@@ -182,7 +182,7 @@ def test_newton_on_cholmod_keeps_the_exact_hessians_quadratic_convergence(caplog
                "edges": "sliding"}  # fmt: skip
     state = initial_state({"material": "powernet", "body": {"torso": {"size": "S"}},
                        "garment": garment})  # fmt: skip
-    solid, _ = body_from_config(state.case["body"])
+    solid, _ = body_from_config(state.case.body.block)
     results = {}
     for name in ("superlu", "cholmod"):
         settings = Settings(tolerance=1e-10, max_iterations=40, progress=False, log_every=0,

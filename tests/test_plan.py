@@ -4,12 +4,15 @@ targets and names, the design's confirmation cases, and finding bundled files.""
 from __future__ import annotations
 
 import copy
+from dataclasses import replace
 from pathlib import Path
 
 import pytest
 import yaml
 
+from cloth.case import Case
 from cloth.errors import InputError
+from cloth.pipeline.config import validate_case
 from cloth.pipeline.plan import (
     body_files,
     data_path,
@@ -30,8 +33,8 @@ def test_the_default_sweep_expands_to_every_material_body_and_reduction():
     assert len(plan.index) == len(plan.sweep) == len(plan.cases) == count == 8
     assert "powernet__torso_M__r150" in plan.cases
     case = plan.cases["powernet__torso_S__r250"]
-    assert case["garment"]["reduction"] == 0.25 and case["body"]["torso"]["size"] == "S"
-    assert case["material"] == "results/materials/powernet.nc"
+    assert case.garment.reduction == 0.25 and case.body.params["size"] == "S"
+    assert case.material == "results/materials/powernet.nc"
     assert [e["reduction"] for e in plan.index[:4]] == sweep["reductions"]
 
 
@@ -80,8 +83,14 @@ def test_a_confirmation_case_is_the_sweeps_case_at_the_designed_reduction():
     row = {"material": "powernet", "body": "torso_M", "reduction": "0.1733"}
     block = plan.case("confirm", plan.design_case(row))
     reference = plan.cases["powernet__torso_M__r150"]
-    assert block["garment"] == {**reference["garment"], "reduction": 0.1733}
-    assert block["body"] == reference["body"] and block["solver"] == reference["solver"]
+    assert block.garment == replace(reference.garment, reduction=0.1733)
+    assert block.body == reference.body and block.solver == reference.solver
+
+
+def _on(body: dict) -> Case:
+    """A case of ``body``."""
+    garment = {"bottom": 0.9, "top": 1.1, "grid": [8, 4], "reduction": 0.1}
+    return validate_case({"material": "powernet", "body": body, "garment": garment})
 
 
 def test_files_are_found_where_given_else_beside_the_workflow(tmp_path, monkeypatch):
@@ -96,8 +105,8 @@ def test_files_are_found_where_given_else_beside_the_workflow(tmp_path, monkeypa
     assert body["surface_file"] == "results/bodies/me.surface.nc"
     assert local_body({"mesh": "m.obj", "surface": "mesh"}, "m") == {"mesh": "m.obj",
                                                                      "surface": "mesh"}  # fmt: skip
-    assert body_files({"body": body}) == ["scans/me.obj", "results/bodies/me.surface.nc"]
-    assert Path(body_files({"body": {"torso": {"size": "M"}}})[0]).is_file()  # the chart
+    assert body_files(_on(body)) == ["scans/me.obj", "results/bodies/me.surface.nc"]
+    assert Path(body_files(_on({"torso": {"size": "M"}}))[0]).is_file()  # the chart
     assert make_plan(CONFIG, ROOT).material_tables("powernet") == [table]  # the user's, here
     (tmp_path / table).unlink()
     assert make_plan(CONFIG, ROOT).material_tables("powernet") == [str(ROOT / table)]

@@ -71,7 +71,7 @@ def test_wrapped_nodes_start_on_or_just_outside(body):
     state = initial_state(c)
     from cloth.files.body import body_from_config
 
-    solid, _ = body_from_config(state.case["body"])
+    solid, _ = body_from_config(state.case.body.block)
     distance = solid.query(state.x)[0]
     assert distance.min() >= -1e-12
     assert distance.max() <= OFFSET + 1e-9

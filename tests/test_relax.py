@@ -33,7 +33,7 @@ def tube(body, reduction, n=64, m=6, around="weft"):
 
 
 def solve(state, method="newton", tolerance=1e-10, iterations=60):
-    body, _ = body_from_config(state.case["body"])
+    body, _ = body_from_config(state.case.body.block)
     settings = Settings(
         method=method, tolerance=tolerance, max_iterations=iterations, progress=False
     )
@@ -244,7 +244,7 @@ def test_every_installed_backend_reaches_superlus_equilibrium(backend):
     pytest.importorskip({"amg": "pyamg", "pardiso": "pypardiso", "cholmod": "sksparse"}[backend])
     body = {"elliptic_cylinder": {"a": 0.15, "b": 0.10, "bottom": 0.0, "top": 0.5}}
     state = tube(body, 0.2, n=48, m=4)
-    solid, _ = body_from_config(state.case["body"])
+    solid, _ = body_from_config(state.case.body.block)
     results = [
         relax(state, solid, Settings(tolerance=1e-10, linear_solver=name, progress=False))
         for name in ("superlu", backend)
@@ -336,7 +336,7 @@ def test_relax_hands_every_step_to_its_callbacks_in_phases():
     from cloth.solvers.stepper import Step
 
     state = tube({"cylinder": {"radius": 0.1, "bottom": 0.0, "top": 0.5}}, 0.2, n=24, m=3)
-    body, _ = body_from_config(state.case["body"])
+    body, _ = body_from_config(state.case.body.block)
     seen = []
 
     def record(iteration, stepper, step, history):
@@ -363,7 +363,7 @@ def test_relax_limits_the_blas_threads_while_it_runs(limit):
     before = counts()
     assert before  # numpy's and scipy's OpenBLAS at least
     state = tube({"cylinder": {"radius": 0.1, "bottom": 0.0, "top": 0.5}}, 0.2, n=24, m=3)
-    body, _ = body_from_config(state.case["body"])
+    body, _ = body_from_config(state.case.body.block)
     during = []
     settings = Settings(tolerance=1e-10, progress=False, blas_threads=limit)
     relax(state, body, settings, callbacks=[lambda *_: during.append(counts())])

@@ -6,6 +6,7 @@ import sys
 
 import yaml
 
+from cloth.pipeline.config import validate_case
 from cloth.pipeline.resources import measure_stage, stage_resources
 from tests.pipeline import ROOT
 
@@ -35,11 +36,12 @@ def test_a_job_asks_for_the_memory_its_stage_uses(tmp_path):
         "aggregate": ("aggregate", str(relaxed), "-o", str(result)),
     }
     for stage, command in commands.items():
-        asked = stage_resources(stage, case)
+        asked = stage_resources(stage, validate_case(case))
         assert peak_mib(*command) * 2**20 / 1e6 < asked.mem_mb, stage
         assert asked.runtime >= 1
-        finer = {**case, "garment": {**case["garment"], "grid": [384, 192]}}
+        finer = validate_case({**case, "garment": {**case["garment"], "grid": [384, 192]}})
         assert stage_resources(stage, finer).mem_mb > asked.mem_mb
-        on_mesh = {**case, "body": {"mesh": "scan.obj"}}
+        on_mesh = validate_case({**case, "body": {"mesh": "scan.obj"}})
         assert stage_resources(stage, on_mesh).mem_mb > asked.mem_mb
-    assert stage_resources("relax", finer).runtime > stage_resources("relax", case).runtime
+    coarse = validate_case(case)
+    assert stage_resources("relax", finer).runtime > stage_resources("relax", coarse).runtime

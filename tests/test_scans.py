@@ -40,7 +40,7 @@ def girth_pressures(body: dict, grid: tuple[int, int]):
         "landmarks": heights,
     }
     state = initial_state(case)
-    solid, _ = body_from_config(state.case["body"])
+    solid, _ = body_from_config(state.case.body.block)
     result = relax(state, solid, Settings(tolerance=1e-8, max_iterations=100, progress=False))
     ev = result.final
     fields = node_fields(
@@ -71,7 +71,7 @@ def test_sliding_node_under_an_overhang_is_held():
 def test_released_node_whose_step_enters_the_body_stays_held():
     state = tube({"cylinder": {"radius": 0.1, "bottom": 0.0, "top": 0.5}}, 0.2, n=32, m=4)
     result = solve(state)
-    problem = Problem(state.grid, body_from_config(state.case["body"])[0], state.constraint)
+    problem = Problem(state.grid, body_from_config(state.case.body.block)[0], state.constraint)
     ev = result.final
     held = ev.on_body.copy()
     k, j = 40, 41  # two interior nodes on the body, released by the active set

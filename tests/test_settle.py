@@ -29,7 +29,7 @@ def _state(block: dict):
 def _bodies():
     for name, block in BODIES.items():
         state = _state(block)
-        yield pytest.param(state, body_from_config(state.case["body"])[0], id=name)
+        yield pytest.param(state, body_from_config(state.case.body.block)[0], id=name)
     state = _state(BODIES["smooth torso"])
     yield pytest.param(state, MeshBody(*torso_mesh(chart_size("M"), 64, 60)), id="torso mesh")
 

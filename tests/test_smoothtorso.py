@@ -118,7 +118,7 @@ def test_newton_converges_quadratically_on_the_smooth_torso():
         "garment": {"bottom": 0.86, "top": 1.22, "reduction": 0.15, "grid": [48, 16]},
     }
     state = initial_state(case)
-    body, _ = body_from_config(state.case["body"])
+    body, _ = body_from_config(state.case.body.block)
     assert isinstance(body, SmoothTorso)
     settings = Settings(tolerance=1e-8, max_iterations=40, progress=False, log_every=0)
     result = relax(state, body, settings)

@@ -113,7 +113,7 @@ def test_a_case_is_validated_once_where_it_enters(tmp_path, monkeypatch):
     base = ["--log-level", "WARNING"]
     assert main([*base, "predeform", str(case), "--base-dir", str(ROOT), "-o",
                  str(tmp_path / "i.nc")]) == 0  # fmt: skip
-    assert len(calls) == 1  # read from its file; predeform trusts the ValidCase
+    assert len(calls) == 1  # read from its file; predeform trusts the Case
     assert main([*base, "run", str(case), "--base-dir", str(ROOT), "-o", str(tmp_path / "r"),
                  "--stop-after", "aggregate"]) == 0  # fmt: skip
     assert len(calls) == 2

@@ -6,10 +6,11 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from cloth.contact.tissue import tissue_from_case
+from cloth.case import Tissue
 from cloth.errors import InputError
 from cloth.files.body import body_from_config
 from cloth.garment.grid import WEFT, node_area
+from cloth.pipeline.config import validate_case
 from cloth.results.pressure import contact_reaction
 from cloth.solvers import Settings, relax
 from cloth.solvers.newton import stiffness_at
@@ -35,7 +36,7 @@ def tube(tissue=None, n=128, m=4, reduction=REDUCTION):
 
 
 def solve(state, tolerance=1e-10):
-    body, _ = body_from_config(state.case["body"])
+    body, _ = body_from_config(state.case.body.block)
     return relax(state, body, Settings(tolerance=tolerance, max_iterations=80, progress=False))
 
 
@@ -89,7 +90,7 @@ def test_a_stiff_layer_reproduces_the_rigid_answer():
 def test_the_layer_stiffness_is_the_energy_hessian():
     """The Newton matrix's tissue part against central differences of the loads."""
     state = tube({"thickness": DEPTH, "modulus": MODULUS}, n=16, m=3)
-    body, _ = body_from_config(state.case["body"])
+    body, _ = body_from_config(state.case.body.block)
     problem = Problem.of(state, body)
     rng = np.random.default_rng(3)
     x = state.x.copy()
@@ -130,17 +131,16 @@ def test_the_layer_stiffness_is_the_energy_hessian():
     ],
 )  # fmt: skip
 def test_bad_tissue_is_refused_naming_the_field(tissue, field):
-    case = {"body": {"cylinder": {"radius": 0.1}, "tissue": tissue},
-            "garment": {"bottom": 0.1, "top": 0.4}}  # fmt: skip
+    case = {"material": "powernet", "body": {"cylinder": {"radius": 0.1}, "tissue": tissue},
+            "garment": {"bottom": 0.1, "top": 0.4, "grid": [8, 4], "reduction": 0.1}}  # fmt: skip
     with pytest.raises(InputError) as error:
-        tissue_from_case(case, "case.yaml")
+        validate_case(case, "case.yaml")
     assert error.value.field == field and "case.yaml" in str(error.value)
 
 
 def test_bands_give_their_layer_to_the_nodes_within_them():
-    case = {"body": {"tissue": {"thickness": 0.01, "modulus": 2e4, "bands": [
-        {"bottom": 0.2, "top": 0.3, "thickness": 0.03, "modulus": 5e3}]}},
-        "garment": {"bottom": 0.1, "top": 0.4}}  # fmt: skip
-    thickness, modulus = tissue_from_case(case).layers(np.array([0.15, 0.25, 0.35]))
+    block = {"thickness": 0.01, "modulus": 2e4, "bands": [
+        {"bottom": 0.2, "top": 0.3, "thickness": 0.03, "modulus": 5e3}]}  # fmt: skip
+    thickness, modulus = Tissue.from_block(block, 0.1, 0.4).layers(np.array([0.15, 0.25, 0.35]))
     np.testing.assert_array_equal(thickness, [0.01, 0.03, 0.01])
     np.testing.assert_array_equal(modulus, [2e4, 5e3, 2e4])

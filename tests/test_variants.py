@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 import yaml
 
+from cloth.case import Tissue
 from cloth.errors import InputError
 from cloth.pipeline.plan import make_plan
 from cloth.pipeline.variants import Variant, sweep_variants
@@ -30,12 +31,12 @@ def test_a_sweep_over_variants_names_and_builds_every_case():
     assert "powernet__torso_M__r150" in plan.cases  # the default variant keeps its name
     name = "powernet__torso_M__r150__tissue20000__mu040__worn"
     case = plan.cases[name]
-    assert case["body"]["tissue"] == {"thickness": 0.015, "modulus": 20000.0}
-    assert case["contact"]["friction"] == 0.4 and case["garment"]["worn"] is True
+    assert case.body.tissue == Tissue(thickness=0.015, modulus=20000.0)
+    assert case.contact.friction == 0.4 and case.garment.worn is True
     entry = next(e for e in plan.index if e["case"] == name)
     assert entry["tissue_modulus"] == 20000 and entry["friction"] == 0.4 and entry["worn"] == 1
     rigid = next(e for e in plan.index if e["case"] == "powernet__torso_M__r150")
-    assert rigid["tissue_modulus"] == math.inf and "tissue" not in plan.cases[rigid["case"]]["body"]
+    assert rigid["tissue_modulus"] == math.inf and plan.cases[rigid["case"]].body.tissue is None
     # a design row names its variant, and its confirmation case has it
     row = {"material": "powernet", "body": "torso_M", "reduction": "0.17",
            "tissue_modulus": "20000.0", "friction": "0.4", "worn": "1"}  # fmt: skip

@@ -26,7 +26,14 @@ log = logging.getLogger("cloth")
 Handler = Callable[[argparse.Namespace], int]
 
 
+def _required(args: argparse.Namespace, dest: str, what: str) -> None:
+    """Refuse a missing input that may come from the line or from ``--json``."""
+    if getattr(args, dest) in (None, []):
+        raise InputError(f"give {what}", field=dest)
+
+
 def _material_ingest(args: argparse.Namespace) -> int:
+    _required(args, "tables", "the lab table(s), or --json with a table")
     options = IngestOptions(
         n_knots=args.knots, branch=args.branch, cycle=args.cycle,
         thickness_mm=args.thickness_mm, specimen_width_mm=args.specimen_width_mm,
@@ -38,6 +45,7 @@ def _material_ingest(args: argparse.Namespace) -> int:
 
 
 def _body_torso(args: argparse.Namespace) -> int:
+    _required(args, "size", "--size, or --json with a torso block")
     girths = {k: getattr(args, k) for k in ("bust", "underbust", "waist", "hip")
               if getattr(args, k) is not None}  # fmt: skip
     torso_file(args.size, args.chart, girths, args.around, args.rings, args.output)
@@ -50,6 +58,7 @@ def _fit_options(args: argparse.Namespace):  # -> FitOptions (imported late: sta
 
 
 def _body_check(args: argparse.Namespace) -> int:
+    _required(args, "mesh", "the mesh file, or --json with a mesh body block")
     lines = describe(
         args.mesh, args.units, args.up, args.repair, args.levels, args.surface,
         _fit_options(args), args.curvature, args.surface_file,
@@ -59,6 +68,7 @@ def _body_check(args: argparse.Namespace) -> int:
 
 
 def _body_fit(args: argparse.Namespace) -> int:
+    _required(args, "mesh", "the mesh file, or --json with a mesh body block")
     mesh = MeshBody.load(args.mesh, args.units, args.up, args.repair, allow_holes=True)
     load_or_fit(mesh, _fit_options(args), args.output)
     return 0
@@ -80,7 +90,7 @@ def _case_write(args: argparse.Namespace) -> int:
         raise InputError(f"not valid JSON ({exc.msg})", field="--json") from None
     case = validate_case(case, args.output)
     with atomic_output(args.output) as tmp:
-        tmp.write_text(yaml.safe_dump(dict(case), sort_keys=False))
+        tmp.write_text(yaml.safe_dump(case.to_dict(), sort_keys=False))
     log.info("wrote %s", args.output)
     return 0
 
@@ -88,7 +98,7 @@ def _case_write(args: argparse.Namespace) -> int:
 def _case_check(args: argparse.Namespace) -> int:
     import yaml
 
-    print(yaml.safe_dump(dict(load_case(args.case)), sort_keys=False), end="")
+    print(yaml.safe_dump(load_case(args.case).to_dict(), sort_keys=False), end="")
     return 0
 
 

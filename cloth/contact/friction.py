@@ -33,9 +33,6 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-#: Default slip length, as a fraction of the grid's shortest rest spring.
-SLIP_FRACTION = 1e-3
-
 
 @dataclass(frozen=True, eq=False)
 class Friction:

@@ -20,105 +20,18 @@ changing (`cloth.solvers.lagged`), so at equilibrium p = E u / h holds with the 
 Limits: the layer is linear and local, so it knows nothing of the tissue's incompressibility or
 its spreading of a load sideways; u must stay below h (beyond, the node would be in the core:
 the run warns). Bands give different layers by height (bust, waist, hip): a node takes the
-layer of the band its undeformed height falls in, the base layer elsewhere.
+layer of the band its undeformed height falls in, the base layer elsewhere (`cloth.case.Tissue`,
+the case's ``body.tissue``, checked where the case is built).
 
 Arrays: per node (N,); heights z in m, the body's frame (z up).
 """
 
 from __future__ import annotations
 
-import math
-from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
-
-from cloth.errors import InputError
-
-
-@dataclass(frozen=True)
-class Band:
-    """A layer between two heights (m): its thickness (m) and modulus (Pa)."""
-
-    bottom: float
-    top: float
-    thickness: float
-    modulus: float
-
-
-@dataclass(frozen=True)
-class Tissue:
-    """The case's ``body.tissue``: the base layer and its bands."""
-
-    thickness: float
-    modulus: float
-    bands: tuple[Band, ...] = ()
-
-    def layers(self, z: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-        """Thickness (m) and modulus (Pa) of the layer under nodes at heights ``z`` ((N,), m)."""
-        thickness = np.full(len(z), self.thickness)
-        modulus = np.full(len(z), self.modulus)
-        for band in self.bands:
-            inside = (z >= band.bottom) & (z <= band.top)
-            thickness[inside], modulus[inside] = band.thickness, band.modulus
-        return thickness, modulus
-
-
-def _positive(block: Mapping[str, Any], key: str, where: str, unit: str, source) -> float:
-    value = block.get(key)
-    if value is None:
-        raise InputError(f"{key} is missing; give it in {unit}", source, f"{where}.{key}")
-    try:
-        number = float(value)
-    except (TypeError, ValueError):
-        number = math.nan
-    if not (math.isfinite(number) and number > 0):
-        raise InputError(
-            f"{key} must be a positive number in {unit}, got {value!r}", source, f"{where}.{key}"
-        )
-    return number
-
-
-def tissue_from_case(case: Mapping[str, Any], source: str = "case") -> Tissue | None:
-    """The case's tissue layer (None: a rigid body), checked: positive finite thickness and
-    modulus, bands inside the garment's height span and not overlapping (`InputError`)."""
-    block = case.get("body", {}).get("tissue")
-    if block is None:
-        return None
-    base = Tissue(
-        _positive(block, "thickness", "body.tissue", "m", source),
-        _positive(block, "modulus", "body.tissue", "Pa", source),
-    )
-    garment = case.get("garment", {})
-    low, high = float(garment.get("bottom", -math.inf)), float(garment.get("top", math.inf))
-    bands = []
-    for index, raw in enumerate(block.get("bands", [])):
-        where = f"body.tissue.bands[{index}]"
-        bottom, top = float(raw["bottom"]), float(raw["top"])
-        if not (math.isfinite(bottom) and math.isfinite(top) and bottom < top):
-            raise InputError(
-                f"bottom ({raw['bottom']}) must be below top ({raw['top']}), both in m",
-                source, where,
-            )  # fmt: skip
-        if bottom < low or top > high:
-            raise InputError(
-                f"the band {bottom:g}-{top:g} m lies outside the garment ({low:g}-{high:g} m); "
-                "move it within the garment's bottom and top",
-                source, where,
-            )  # fmt: skip
-        band = Band(bottom, top, _positive(raw, "thickness", where, "m", source),
-                    _positive(raw, "modulus", where, "Pa", source))  # fmt: skip
-        for other, previous in enumerate(bands):
-            if band.bottom < previous.top and previous.bottom < band.top:
-                raise InputError(
-                    f"the band {bottom:g}-{top:g} m overlaps band {other} "
-                    f"({previous.bottom:g}-{previous.top:g} m); bands must not overlap",
-                    source, where,
-                )  # fmt: skip
-        bands.append(band)
-    return Tissue(base.thickness, base.modulus, tuple(bands))
 
 
 @dataclass(frozen=True, eq=False)

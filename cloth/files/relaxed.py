@@ -22,10 +22,11 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
+from cloth.case import Settings
 from cloth.files.skin import friction_variables
 from cloth.files.state import state_dataset
 from cloth.garment.state import State
-from cloth.solvers.common import History, Settings
+from cloth.solvers.common import History
 from cloth.solvers.problem import turning_gauge
 from cloth.solvers.relax import Result
 

@@ -30,6 +30,7 @@ import numpy as np
 import xarray as xr
 
 from cloth import __version__
+from cloth.case import Case
 from cloth.errors import InputError
 from cloth.files.material import fabric_from_dataset, fabric_variables
 from cloth.garment.grid import FAMILIES, Grid, StressStrainCurve
@@ -99,7 +100,7 @@ def state_dataset(state: State, stage: str, previous: dict[str, Any] | None = No
             "around": state.around,
             "fabric_name": state.fabric.name,
             "provenance": str(to_attr(state.fabric.provenance)),
-            "case": json.dumps(state.case, sort_keys=True),
+            "case": json.dumps(state.case.to_dict(), sort_keys=True),
             "body": json.dumps(state.body, sort_keys=True),
             "moduli": json.dumps(state.moduli, sort_keys=True),
         }
@@ -150,6 +151,9 @@ def state_from_dataset(ds: xr.Dataset, source: str = "state") -> State:
         thickness=fabric.thickness,
     )
     x = np.stack([ds[c].values.ravel() for c in ("x", "y", "z")], axis=1).astype(np.float64)
+    if "case" not in ds.attrs:
+        raise InputError("the file has no case; re-run the stage that made it", source, "case")
+    case = Case.from_dict(json.loads(ds.attrs["case"]), source)
     skip = {"Conventions", "title", "institution", "source", "cloth_version", "history",
             "cloth_kind", "format_version", "n", "m", "closed", "around", "fabric_name",
             "provenance", "case", "body", "moduli", "stage"}  # fmt: skip
@@ -160,9 +164,10 @@ def state_from_dataset(ds: xr.Dataset, source: str = "state") -> State:
         on_body=ds["contact"].values.ravel().astype(np.int8),
         fabric=fabric,
         around=around,
-        case=json.loads(ds.attrs.get("case", "{}")),
+        case=case,
         body=json.loads(ds.attrs.get("body", "{}")),
         moduli=moduli,
+        skin=case.skin,
         attrs={k: v for k, v in ds.attrs.items() if k not in skip},
     )
 

@@ -22,13 +22,13 @@ the body surface (contact flag; relaxation keeps it on or outside).
 from __future__ import annotations
 
 import logging
-from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
 from cloth.bodies import Body, hull_polygon, loop_around, polygon_perimeter
 from cloth.bodies.sections import loop_area
+from cloth.case import Case
 from cloth.errors import InputError
 from cloth.garment.grid import FIXED, FREE, SLIDING, build_grid
 from cloth.garment.state import State, grid_fabric
@@ -132,18 +132,18 @@ def wrap(
 
 
 def predeform(
-    case: dict[str, Any],
+    case: Case,
     fabric: Fabric,
     body: Body,
-    body_record: dict[str, Any],
+    body_record: dict,
     source: str = "case",
 ) -> State:
     """Build the initial state of a case: pattern, wrapped positions, constraints. Reads no file.
 
     Parameters
     ----------
-    case : dict
-        A validated case (`cloth.pipeline.config.validate_case`; docs/config.md).
+    case : Case
+        The case (`cloth.pipeline.config.validate_case`; docs/config.md).
     fabric : Fabric
         The case's material (`cloth.files.material.load_fabric`).
     body : Body
@@ -154,24 +154,24 @@ def predeform(
     source : str
         Name of the case in error messages.
     """
-    garment = case["garment"]
+    garment = case.garment
     body_ref = dict(body_record)
-    n, m = garment["grid"]
-    heights = np.linspace(garment["bottom"], garment["top"], m)
+    n, m = garment.grid
+    heights = np.linspace(garment.bottom, garment.top, m)
     log.info("predeform: %s nodes (%d x %d) on the body", f"{n * m:,}", n, m)
-    hulls = row_hulls(body, heights, garment.get("loop_point"), n)
+    hulls = row_hulls(body, heights, garment.loop_point, n)
     hull_girth = np.array([polygon_perimeter(h) for h in hulls])
-    if garment.get("loop_point") is None:  # the body's own hull girth: exact for closed forms
+    if garment.loop_point is None:  # the body's own hull girth: exact for closed forms
         whole = np.array([body.girth(float(z))[1] for z in heights])
         one_loop = np.isclose(whole, hull_girth, rtol=1e-3)  # else: the largest of several
         hull_girth = np.where(one_loop, whole, hull_girth)
-    if "reduction" in garment:
-        circumference = (1.0 - garment["reduction"]) * hull_girth
+    if garment.reduction is not None:
+        circumference = (1.0 - garment.reduction) * hull_girth
     else:
-        circumference = np.full(m, float(garment["circumference"]))
-    span = (1.0 - garment["lengthwise_reduction"]) * (garment["top"] - garment["bottom"])
-    moduli = {k: float(garment[k]) for k in ("shear_modulus", "bend_modulus") if k in garment}
-    around = garment["around"]
+        circumference = np.full(m, float(garment.circumference))
+    span = (1.0 - garment.lengthwise_reduction) * (garment.top - garment.bottom)
+    moduli = garment.moduli
+    around = garment.around
     worn = set_strains(garment, fabric, source)
     if worn:  # the set lengthens the pattern in each direction (cloth.garment.worn)
         up = "warp" if around == "weft" else "weft"
@@ -182,10 +182,10 @@ def predeform(
         n, m, circumference, np.linspace(0.0, span, m), grid_fabric(fabric, around),
         closed=True, **moduli,
     )  # fmt: skip
-    offset = float(garment["offset"])
+    offset = garment.offset
     x = wrap(body, hulls, heights, n, offset)
     constraint = np.full(grid.n_nodes, FREE, dtype=np.int8)
-    edge = EDGE_CONSTRAINT[garment["edges"]]
+    edge = EDGE_CONSTRAINT[garment.edges]
     constraint[:n] = edge
     constraint[-n:] = edge
     distance = body.query(x)[0]
@@ -208,6 +208,7 @@ def predeform(
         fabric=fabric,
         around=around,
         case=case,
+        skin=case.skin,
         body=body_ref,
         moduli=moduli,
         attrs={

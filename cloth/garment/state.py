@@ -10,6 +10,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from cloth.case import Case, Skin
 from cloth.garment.grid import Grid
 from cloth.materials.curves import Fabric
 
@@ -31,10 +32,13 @@ class State:
         The fabric as ingested (weft and warp as in the lab table).
     around : {'weft', 'warp'}
         The fabric direction along the grid's weft (around the body).
-    case : dict
-        The validated case.
+    case : Case
+        The case.
     body : dict
         Body reference: kind, parameters, path and sha256 of any file.
+    skin : Skin
+        The skin models under the garment (tissue, friction), the case's; the solvers read
+        these, never the case.
     attrs : dict
         Stage attributes (solver results, history, ...).
     """
@@ -45,9 +49,10 @@ class State:
     on_body: NDArray[np.int8]
     fabric: Fabric
     around: str
-    case: dict[str, Any]
+    case: Case
     body: dict[str, Any]
     moduli: dict[str, float] = field(default_factory=dict)
+    skin: Skin = field(default_factory=Skin)
     attrs: dict[str, Any] = field(default_factory=dict)
 
     def with_positions(self, x: NDArray[np.float64], **changes: Any) -> State:

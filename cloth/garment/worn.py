@@ -25,21 +25,20 @@ refused.
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
-from typing import Any
 
+from cloth.case import GarmentSpec
 from cloth.errors import InputError
 from cloth.materials.curves import Fabric
 
 DIRECTIONS = ("weft", "warp")
 
 
-def set_strains(garment: Mapping[str, Any], fabric: Fabric, source: str = "case") -> dict:
+def set_strains(garment: GarmentSpec, fabric: Fabric, source: str = "case") -> dict:
     """The set strain (1) per fabric direction of a worn garment (empty for a new one),
     checked: finite, >= 0 and < 1 (`InputError` naming the field)."""
-    if not garment.get("worn", False):
+    if not garment.worn:
         return {}
-    given = garment.get("set_strain") or {}
+    given = garment.set_strain
     out = {}
     for direction in DIRECTIONS:
         value = given.get(direction, fabric.set_strain.get(direction))

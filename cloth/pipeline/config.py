@@ -1,4 +1,4 @@
-"""Case files: load, validate against the JSON Schema, fill defaults, resolve paths.
+"""Case files: load, validate against the JSON Schema, fill defaults, type (`cloth.case.Case`).
 
 One simulation = one YAML case (schema: ``cloth/schemas/case.schema.yaml``, documented in
 docs/config.md). Errors name the file and the key path, e.g.
@@ -16,11 +16,9 @@ from typing import Any
 import jsonschema
 import yaml
 
-from cloth.contact.skin import check_solver, friction_settings
-from cloth.contact.tissue import tissue_from_case
+from cloth.case import BODY_KINDS, Case
 from cloth.errors import InputError
 
-BODY_KINDS = ("mesh", "torso", "cylinder", "elliptic_cylinder", "cone")
 MESH_ONLY = ("units", "up", "repair", "surface", "smoothing", "spacing", "surface_file")
 
 
@@ -45,19 +43,15 @@ def _fill_defaults(schema: dict[str, Any], data: Any) -> None:
             _fill_defaults(sub, data[key])
 
 
-class ValidCase(dict):
-    """A case that `validate_case` checked and filled with defaults: validated once, where it
-    enters a process (the plan, a case file, a command's JSON); functions handed one do not
-    validate it again."""
-
-
-def validate_case(case: dict[str, Any], source: str | Path = "case") -> ValidCase:
-    """Validate a case mapping; return a copy with defaults filled (a `ValidCase`, returned as
-    it is when given one).
+def validate_case(case: Case | dict[str, Any], source: str | Path = "case") -> Case:
+    """The typed case of a case mapping: checked against the schema, its defaults filled, then
+    built (`Case.from_dict`, which checks what each block's type knows). A `Case` is returned as
+    it is: it was validated where it entered the process (the plan, a case file, a command's
+    JSON, a state file), and functions handed one do not validate it again.
 
     Raises `InputError` naming ``source`` and the key path of the first problem.
     """
-    if isinstance(case, ValidCase):
+    if isinstance(case, Case):
         return case
     if not isinstance(case, dict):
         raise InputError("a case must be a mapping of keys to values", source)
@@ -102,7 +96,6 @@ def validate_case(case: dict[str, Any], source: str | Path = "case") -> ValidCas
             source,
             "garment.grid",
         )
-    _check_skin(case, source)
     case.setdefault("solver", {})
     _fill_defaults(case_schema(), case)
     if kinds[0] == "mesh":
@@ -113,22 +106,10 @@ def validate_case(case: dict[str, Any], source: str | Path = "case") -> ValidCas
     else:
         for key in MESH_ONLY:
             body.pop(key, None)
-    return ValidCase(case)
+    return Case.from_dict(case, str(source))
 
 
-def _check_skin(case: dict[str, Any], source: str | Path) -> None:
-    """The skin models' numbers (tissue layers and bands, friction, slip length), checked where
-    the case enters, so a bad one is refused before any stage writes a file."""
-    tissue_from_case(case, str(source))
-    solver = case.get("solver") or {}
-    check_solver(case, solver.get("method", "newton"), solver.get("continuation", False), source)
-    try:
-        friction_settings(case, 1.0)
-    except InputError as exc:
-        raise InputError(exc.detail, source, exc.field) from None
-
-
-def load_case(path: str | Path) -> ValidCase:
+def load_case(path: str | Path) -> Case:
     """Read and validate a YAML case file."""
     path = Path(path)
     if not path.is_file():

@@ -22,9 +22,10 @@ import re
 from dataclasses import dataclass
 from pathlib import Path
 
+from cloth.case import Case
 from cloth.errors import InputError
 from cloth.io import resolve
-from cloth.pipeline.resources import MODEL, REFERENCE_NODES, grid_nodes
+from cloth.pipeline.resources import MODEL, REFERENCE_NODES
 
 log = logging.getLogger(__name__)
 
@@ -96,11 +97,11 @@ def free_memory_mb() -> float | None:
     return free
 
 
-def case_counts(case: dict, base_dir: str | Path = ".") -> tuple[int, int]:
-    """(garment nodes, body mesh faces) of a validated case block."""
-    body = case.get("body", {})
-    faces = mesh_faces(resolve(body["mesh"], base_dir)) if "mesh" in body else 0
-    return grid_nodes(case), faces
+def case_counts(case: Case, base_dir: str | Path = ".") -> tuple[int, int]:
+    """(garment nodes, body mesh faces) of a case."""
+    mesh = case.body.option("mesh")
+    faces = mesh_faces(resolve(mesh, base_dir)) if mesh is not None else 0
+    return case.garment.nodes, faces
 
 
 def check_fits(

@@ -20,6 +20,7 @@ from pathlib import Path
 
 from cloth.bodies.torso import DEFAULT_CHART
 from cloth.bodies.torso import LANDMARKS as TORSO_LANDMARKS
+from cloth.case import Case
 from cloth.errors import InputError
 from cloth.pipeline.config import validate_case
 from cloth.pipeline.variants import Variant, sweep_variants
@@ -68,11 +69,11 @@ class Plan:
 
     config: dict
     base: str | Path | None = None
-    cases: dict[str, dict] = field(default_factory=dict)
+    cases: dict[str, Case] = field(default_factory=dict)
     sweep: dict[str, dict] = field(default_factory=dict)
     index: list[dict] = field(default_factory=list)
 
-    def case(self, name: str, block: dict | None = None) -> dict:
+    def case(self, name: str, block: dict | None = None) -> Case:
         """Case ``name`` of the config (or ``block``) with its material as the ingested file,
         validated."""
         config = self.config
@@ -192,12 +193,13 @@ def make_plan(config: dict, base: str | Path | None = None) -> Plan:
     return plan
 
 
-def body_files(block: dict) -> list[str]:
+def body_files(case: Case) -> list[str]:
     """Files a case's body reads (mesh and its surface file, or size chart), so that editing
     them reruns the case."""
-    body = block["body"]
-    if "mesh" in body:
-        return [body["mesh"], *([body["surface_file"]] if "surface_file" in body else [])]
-    if "torso" in body:
-        return [body["torso"].get("chart", str(DEFAULT_CHART))]
+    body = case.body
+    if body.kind == "mesh":
+        surface = body.option("surface_file")
+        return [body.option("mesh"), *([surface] if surface is not None else [])]
+    if body.kind == "torso":
+        return [body.params.get("chart", str(DEFAULT_CHART))]
     return []

@@ -25,6 +25,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from cloth.case import Case
+
 #: Measured value x MARGIN is asked.
 MARGIN = 2.0
 #: A mesh body's extra memory in the per-case stages, MB (its spline coefficients, float64).
@@ -51,17 +53,11 @@ class Resources:
     runtime: int
 
 
-def grid_nodes(case: dict) -> int:
-    """Nodes of a case's garment grid (n x m), from its ``garment.grid`` (default 48 x 24)."""
-    n, m = case.get("garment", {}).get("grid", [48, 24])
-    return int(n) * int(m)
-
-
-def stage_resources(stage: str, case: dict) -> Resources:
-    """What one per-case ``stage`` of ``case`` (a case block: ``garment.grid``, ``body``) asks."""
+def stage_resources(stage: str, case: Case) -> Resources:
+    """What one per-case ``stage`` of ``case`` (its garment's grid and its body) asks."""
     base, per_node, seconds, power = MODEL[stage]
-    nodes = grid_nodes(case)
-    memory = base + per_node * nodes + (MESH_MB if "mesh" in case.get("body", {}) else 0.0)
+    nodes = case.garment.nodes
+    memory = base + per_node * nodes + (MESH_MB if case.body.kind == "mesh" else 0.0)
     minutes = 1.0 + seconds * (nodes / REFERENCE_NODES) ** power / 60.0
     return Resources(mem_mb=math.ceil(MARGIN * memory), runtime=math.ceil(MARGIN * minutes))
 

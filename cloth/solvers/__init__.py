@@ -3,7 +3,8 @@
 `relax(state, body, settings)` dispatches on ``settings.method``; see docs/solvers.md.
 """
 
-from cloth.solvers.common import Diverged, History, Settings
+from cloth.case import Settings
+from cloth.solvers.common import Diverged, History
 from cloth.solvers.relax import relax
 
 __all__ = ["Diverged", "History", "Settings", "relax"]

@@ -42,9 +42,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from cloth.bodies import Body
+from cloth.case import Settings
 from cloth.garment.grid import FIXED, SLIDING, WEFT, Grid, build_grid
 from cloth.garment.state import State, grid_fabric
-from cloth.solvers.common import Diverged, Settings
+from cloth.solvers.common import Diverged
 from cloth.solvers.problem import Problem
 
 log = logging.getLogger(__name__)
@@ -163,7 +164,7 @@ def carry_contact(
     (``held``, (source N,)) put on the body (`Problem.project_out`: a sliding node along its
     horizontal normal); with tissue, nothing is put on the skin."""
     placed = keep_constraints(interpolate(x, source, target.grid), target)
-    if (target.case.get("body") or {}).get("tissue") is not None:
+    if target.skin.tissue is not None:
         return placed  # the skin gives way: its nodes stay where the coarse answer sank them
     flags = interpolate(np.repeat(np.asarray(held, float)[:, None], 3, axis=1), source,
                         target.grid)[:, 0]  # fmt: skip

@@ -102,8 +102,8 @@ class Problem:
     @classmethod
     def of(cls, state: State, body: Body) -> Problem:
         """The problem of relaxing ``state`` on ``body``, with its turning gauge and the skin
-        models its case asks for (`cloth.contact.skin.skin_models`)."""
-        tissue, friction = skin_models(state.case, state.grid, state.x)
+        models under it (`cloth.contact.skin.skin_models`)."""
+        tissue, friction = skin_models(state.skin, state.grid, state.x)
         gauge = turning_gauge(state.grid, state.constraint)
         return cls(state.grid, body, state.constraint, gauge, tissue, friction)
 

@@ -12,10 +12,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from cloth.bodies import Body
-from cloth.contact.skin import check_solver
+from cloth.case import Settings
 from cloth.garment.state import State
 from cloth.solvers import lagged
-from cloth.solvers.common import Diverged, History, Settings
+from cloth.solvers.common import Diverged, History
 from cloth.solvers.continuation import start_from_coarse
 from cloth.solvers.explicit import MAX_STEP, Explicit, shortest_rest
 from cloth.solvers.linear import blas_threads, choose, factorisations
@@ -115,7 +115,7 @@ def _relax(
 ) -> Result:
     start = time.perf_counter()
     factorised = factorisations()
-    check_solver(state.case, settings.method, settings.continuation)
+    state.skin.check_solver(settings.method, settings.continuation)
     if settings.continuation:
         state = start_from_coarse(state, body, settings, relax)
     problem = Problem.of(state, body)

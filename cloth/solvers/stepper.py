@@ -13,7 +13,8 @@ import logging
 from dataclasses import dataclass
 from typing import Protocol
 
-from cloth.solvers.common import History, Settings
+from cloth.case import Settings
+from cloth.solvers.common import History
 from cloth.solvers.problem import Evaluation, Problem
 
 log = logging.getLogger("cloth.solvers.relax")

@@ -10,8 +10,10 @@ from __future__ import annotations
 import importlib.util
 import json
 import logging
+from dataclasses import replace
 from pathlib import Path
 
+from cloth.case import Case
 from cloth.errors import EXIT_DIVERGED, StageFailed
 from cloth.figures.plots import plot_garment_3d
 from cloth.files.body import body_from_config, body_from_record
@@ -24,8 +26,7 @@ from cloth.garment.state import State
 from cloth.io import write_netcdf
 from cloth.pipeline import guard
 from cloth.pipeline.config import load_case, validate_case
-from cloth.pipeline.resources import grid_nodes
-from cloth.solvers import Diverged, Settings, relax
+from cloth.solvers import Diverged, relax
 from cloth.solvers.problem import Problem
 from cloth.solvers.relax import Result
 from cloth.stages.results import figures, view, write_result
@@ -37,23 +38,23 @@ SOLVER_KEYS = ("method", "tolerance", "max_iterations", "linear_solver", "log_ev
                "warm_start")  # fmt: skip
 
 
-def check_fits(stages: tuple[str, ...], case: dict, base_dir: Path, source, force: bool):
+def check_fits(stages: tuple[str, ...], case: Case, base_dir: Path, source, force: bool):
     """Refuse (`InputError`) a case whose estimated memory in ``stages`` exceeds the free."""
     guard.check_fits(stages, *guard.case_counts(case, base_dir), source, force)
 
 
-def _check_record_fits(stage: str, case: dict, record: dict, source, force: bool) -> None:
+def _check_record_fits(stage: str, nodes: int, record: dict, source, force: bool) -> None:
     faces = guard.mesh_faces(record["path"]) if "mesh" in record.get("block", {}) else 0
-    guard.check_fits((stage,), grid_nodes(case), faces, source, force)
+    guard.check_fits((stage,), nodes, faces, source, force)
 
 
-def initial_state(case: dict, base_dir: str | Path = ".", source: str = "case") -> State:
-    """The initial state of a case (a mapping, validated here unless it is already): its
-    fabric and body read from the files it names, relative to ``base_dir``, then
+def initial_state(case: Case | dict, base_dir: str | Path = ".", source: str = "case") -> State:
+    """The initial state of a case (a `Case`, or a mapping validated here): its fabric and
+    body read from the files it names, relative to ``base_dir``, then
     `cloth.garment.predeform.predeform`."""
     case = validate_case(case, source)
-    fabric = load_fabric(case["material"], base_dir)
-    body, record = body_from_config(case["body"], base_dir)
+    fabric = load_fabric(case.material, base_dir)
+    body, record = body_from_config(case.body.block, base_dir)
     return predeform(case, fabric, body, record, source)
 
 
@@ -88,7 +89,7 @@ def relax_state(state, overrides: dict, output: Path, previous: dict | None = No
     """Relax ``state`` (its case's solver block, ``overrides`` on top) on the body its record
     names, and write relaxed.nc. A divergence writes the last finite state to
     ``*.diverged.nc`` and raises `StageFailed`."""
-    settings = Settings(**{**state.case.get("solver", {}), **overrides})
+    settings = replace(state.case.solver, **overrides)
     body = body_from_record(state.body, output)
     try:
         result = relax(state, body, settings)
@@ -112,11 +113,12 @@ def relax_file(initial: Path, output: Path, overrides: dict, force: bool = False
 
     try:
         with xr.open_dataset(initial) as head:
-            case, record = json.loads(head.attrs["case"]), json.loads(head.attrs["body"])
+            nodes = int(head.attrs["n"]) * int(head.attrs["m"])
+            record = json.loads(head.attrs["body"])
     except Exception:  # read_state reports an unreadable file in one line
-        case = record = None
-    if case is not None:
-        _check_record_fits("relax", case, record, initial, force)
+        record = None
+    if record is not None:
+        _check_record_fits("relax", nodes, record, initial, force)
     state, ds = read_state(initial)
     relax_state(state, overrides, output, dict(ds.attrs))
 

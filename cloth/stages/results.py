@@ -44,7 +44,7 @@ def aggregate(relaxed_path: str | Path) -> tuple[xr.Dataset, list]:
         ev.on_body, ev.normal, state.constraint,
     )  # fmt: skip
     heights = dict(ref.get("landmarks", {}))
-    heights.update(state.case.get("landmarks", {}))
+    heights.update(state.case.landmarks)
     if not heights:
         heights = girth_extrema(state)
     marks = landmarks(heights, state.x, fields, state.grid)

@@ -4,7 +4,7 @@ wings; tests/test_examples.py runs it)."""
 
 import numpy as np
 
-from cloth.bodies import Cylinder
+from cloth.files.body import body_from_config
 from cloth.files.material import load_fabric
 from cloth.garment.predeform import predeform
 from cloth.pipeline.config import validate_case
@@ -12,7 +12,6 @@ from cloth.results.fields import node_fields
 from cloth.solvers import Settings, relax
 
 RADIUS = 0.1  # m
-body = Cylinder(radius=RADIUS, bottom=0.0, top=0.5)
 case = validate_case(
     {
         "material": "powernet",
@@ -20,7 +19,8 @@ case = validate_case(
         "garment": {"bottom": 0.1, "top": 0.4, "reduction": 0.2, "grid": [96, 6]},
     }
 )
-state = predeform(case, load_fabric("powernet"), body, {"block": case["body"], "kind": "cylinder"})
+body, record = body_from_config(case.body.block)  # the cylinder, and its record
+state = predeform(case, load_fabric("powernet"), body, record)
 final = relax(state, body, Settings(method="newton")).final
 fields = node_fields(
     state.grid,

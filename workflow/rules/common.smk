@@ -79,7 +79,7 @@ def case_block(name):
 
 
 def case_json(wildcards):
-    return json.dumps(case_block(wildcards.case), sort_keys=True)
+    return json.dumps(case_block(wildcards.case).to_dict(), sort_keys=True)
 
 
 def body_files(wildcards):
@@ -88,7 +88,7 @@ def body_files(wildcards):
 
 
 def case_material(wildcards):
-    return case_block(wildcards.case)["material"]
+    return case_block(wildcards.case).material
 
 
 def torso_flags(wildcards):
@@ -192,10 +192,10 @@ def case_resource(stage, name):
 
     def value(wildcards):
         if wildcards.case in CASES:
-            blocks = [CASES[wildcards.case]]
+            cases = [CASES[wildcards.case]]
         else:
-            blocks = list(SWEEP_BLOCKS.values()) or [case_block(wildcards.case)]
-        return max(getattr(stage_resources(stage, block), name) for block in blocks)
+            cases = [CASES[n] for n in SWEEP_BLOCKS] or [case_block(wildcards.case)]
+        return max(getattr(stage_resources(stage, case), name) for case in cases)
 
     return value
 

@@ -1,0 +1,183 @@
+"""The case, typed: one simulation's fabric, body, garment, skin and solver, frozen.
+
+`Case.from_dict` builds it from a case mapping that `cloth.pipeline.config.validate_case`
+checked against the schema and filled with defaults (or one read back from a state file, which
+was). Each block is its own type, read by attribute, never by string key:
+
+=============  ==========================================  ===================================
+case key       type                                        read by
+=============  ==========================================  ===================================
+material       str (a lab table, a material.nc or a name)  `cloth.files.material.load_fabric`
+body           `BodySpec` (kind, its block, `Tissue`)      `cloth.files.body.body_from_config`
+garment        `GarmentSpec`                               `cloth.garment.predeform`
+contact        `Contact` (friction, slip length)           `Case.skin`
+landmarks      name -> height, m                           `cloth.stages.results`
+solver         `Settings`                                  `cloth.solvers.relax`
+=============  ==========================================  ===================================
+
+The skin models a garment meets (`Skin`: the tissue layer and the friction) are the state's,
+copied from the case by predeform, so the solvers take `Settings` and the skin, never the case.
+
+The constructors check what a type knows (a positive tissue modulus, bands inside the garment,
+a friction coefficient >= 0, a solver that can solve the skin models) and raise `InputError`
+naming the field; `Case.from_dict` adds the case's name. `Case.to_dict` gives back the mapping
+it was built from (state files and ``cloth case write`` store it as JSON and YAML).
+"""
+
+from __future__ import annotations
+
+import copy
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from types import MappingProxyType
+from typing import Any
+
+from cloth.case.settings import Settings
+from cloth.case.skin import Contact, Skin, Tissue
+from cloth.errors import InputError
+
+BODY_KINDS = ("mesh", "torso", "cylinder", "elliptic_cylinder", "cone")
+
+
+@dataclass(frozen=True)
+class BodySpec:
+    """The case's ``body`` block: its ``kind`` (one of `BODY_KINDS`), the block itself (a copy
+    each time it is read: `cloth.files.body.body_from_config` takes it) and its tissue."""
+
+    kind: str
+    _block: Mapping[str, Any] = field(repr=False)
+    tissue: Tissue | None = None
+
+    @property
+    def block(self) -> dict[str, Any]:
+        return copy.deepcopy(dict(self._block))
+
+    def option(self, key: str, default: Any = None) -> Any:
+        """A key of the block (a mesh body's ``units``, ``surface``, ...) or ``default``."""
+        return copy.deepcopy(self._block.get(key, default))
+
+    @property
+    def params(self) -> dict[str, Any]:
+        """The parameters of a parametric body (``torso``, ``cylinder``, ...): its sub-block;
+        empty for a mesh."""
+        return copy.deepcopy(dict(self._block.get(self.kind, {}))) if self.kind != "mesh" else {}
+
+
+@dataclass(frozen=True)
+class GarmentSpec:
+    """The case's ``garment`` block (docs/config.md): heights m, moduli Pa, strains 1."""
+
+    bottom: float
+    top: float
+    grid: tuple[int, int]
+    reduction: float | None = None
+    circumference: float | None = None
+    lengthwise_reduction: float = 0.0
+    edges: str = "sliding"
+    around: str = "weft"
+    offset: float = 1e-4
+    loop_point: tuple[float, float] | None = None
+    shear_modulus: float | None = None
+    bend_modulus: float | None = None
+    worn: bool = False
+    set_strain: Mapping[str, float] = field(default_factory=lambda: MappingProxyType({}))
+
+    @property
+    def nodes(self) -> int:
+        return self.grid[0] * self.grid[1]
+
+    @property
+    def moduli(self) -> dict[str, float]:
+        """The optional linear springs' moduli (Pa), by key, where given."""
+        given = {"shear_modulus": self.shear_modulus, "bend_modulus": self.bend_modulus}
+        return {key: float(value) for key, value in given.items() if value is not None}
+
+    @classmethod
+    def from_block(cls, block: Mapping[str, Any]) -> GarmentSpec:
+        loop = block.get("loop_point")
+        return cls(
+            bottom=float(block["bottom"]),
+            top=float(block["top"]),
+            grid=(int(block["grid"][0]), int(block["grid"][1])),
+            reduction=block.get("reduction"),
+            circumference=block.get("circumference"),
+            lengthwise_reduction=float(block.get("lengthwise_reduction", 0.0)),
+            edges=block.get("edges", "sliding"),
+            around=block.get("around", "weft"),
+            offset=float(block.get("offset", 1e-4)),
+            loop_point=None if loop is None else (float(loop[0]), float(loop[1])),
+            shear_modulus=block.get("shear_modulus"),
+            bend_modulus=block.get("bend_modulus"),
+            worn=bool(block.get("worn", False)),
+            set_strain=MappingProxyType(dict(block.get("set_strain") or {})),
+        )
+
+
+@dataclass(frozen=True, eq=False)
+class Case:
+    """One simulation, typed (module docstring). Equal when built from equal mappings."""
+
+    material: str
+    body: BodySpec
+    garment: GarmentSpec
+    contact: Contact
+    solver: Settings
+    landmarks: Mapping[str, float]
+    _data: Mapping[str, Any] = field(repr=False)
+
+    @property
+    def skin(self) -> Skin:
+        """The skin models the case asks for: its body's tissue and its contact."""
+        return Skin(self.body.tissue, self.contact)
+
+    def to_dict(self) -> dict[str, Any]:
+        """The mapping the case was built from (validated, defaults filled), a fresh copy."""
+        return copy.deepcopy(dict(self._data))
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, Case) and self._data == other._data
+
+    def __hash__(self) -> int:
+        return hash(repr(sorted(self._data.items(), key=lambda item: item[0])))
+
+    @classmethod
+    def from_dict(cls, data: Mapping[str, Any], source: str = "case") -> Case:
+        """The typed case of a validated mapping (`cloth.pipeline.config.validate_case`);
+        `InputError` naming ``source`` and the field where a block does not hold."""
+        data = copy.deepcopy(dict(data))
+        try:
+            return cls._build(data)
+        except InputError as exc:
+            raise InputError(exc.detail, source, exc.field) from None
+
+    @classmethod
+    def _build(cls, data: dict[str, Any]) -> Case:
+        body_block = data["body"]
+        kinds = [kind for kind in BODY_KINDS if kind in body_block]
+        garment = GarmentSpec.from_block(data["garment"])
+        tissue_block = body_block.get("tissue")
+        tissue = None
+        if tissue_block is not None:
+            tissue = Tissue.from_block(tissue_block, garment.bottom, garment.top)
+        contact_block = data.get("contact") or {}
+        contact = Contact(contact_block.get("friction", 0.0), contact_block.get("slip_length"))
+        solver = _settings(data.get("solver") or {})
+        Skin(tissue, contact).check_solver(solver.method, solver.continuation)
+        return cls(
+            material=str(data["material"]),
+            body=BodySpec(kinds[0] if kinds else "", MappingProxyType(body_block), tissue),
+            garment=garment,
+            contact=contact,
+            solver=solver,
+            landmarks=MappingProxyType(
+                {str(k): float(v) for k, v in (data.get("landmarks") or {}).items()}
+            ),
+            _data=MappingProxyType(data),
+        )
+
+
+def _settings(block: Mapping[str, Any]) -> Settings:
+    try:
+        return Settings(**block)
+    except InputError as exc:
+        raise InputError(exc.detail, field=f"solver.{exc.field}") from None
