@@ -90,7 +90,8 @@ def test_sweep_nc_gains_a_dimension_per_varied_key_and_csv_sets_worn_beside_new(
                 )
     targets = [{"landmark": "middle", "pressure_mmHg": 18}]
     out = tmp_path / "results"
-    sweep_files(index, targets, tmp_path, out / "sweep.nc", out / "sweep.csv", out / "design.png")
+    results = [out / "cases" / entry["case"] / "result.nc" for entry in index]
+    sweep_files(index, results, targets, out / "sweep.nc", out / "sweep.csv", out / "design.png")
     import xarray as xr
 
     with xr.open_dataset(out / "sweep.nc") as ds:

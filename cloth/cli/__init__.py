@@ -11,6 +11,7 @@ import logging
 import sys
 from collections.abc import Sequence
 
+from cloth.cli.blocks import apply_block
 from cloth.cli.parser import build_parser
 from cloth.errors import EXIT_INPUT, InputError, StageFailed
 from cloth.io import set_command
@@ -31,6 +32,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     set_command(["cloth", *(sys.argv[1:] if argv is None else argv)])
     handler = args.handler
     try:
+        if getattr(args, "block", None) is not None and getattr(args, "verb", None) is not None:
+            apply_block(args.verb, args, args.block_ignores)
         return handler(args)
     except InputError as exc:
         print(f"cloth: error: {exc}", file=sys.stderr)

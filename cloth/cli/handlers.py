@@ -142,7 +142,7 @@ def _export(args: argparse.Namespace) -> int:
 def _sweep(args: argparse.Namespace) -> int:
     import json
 
-    sweep_files(json.loads(args.index), json.loads(args.targets), args.root, args.output,
+    sweep_files(json.loads(args.index), args.results, json.loads(args.targets), args.output,
                 args.csv, args.plot, args.body_plot)  # fmt: skip
     return 0
 
@@ -155,5 +155,5 @@ def _design(args: argparse.Namespace) -> int:
 
 
 def _confirm(args: argparse.Namespace) -> int:
-    confirm_file(args.design, args.root, args.output)
+    confirm_file(args.design, args.results, args.output)
     return 0

@@ -41,9 +41,21 @@ def _force_option(command: argparse.ArgumentParser) -> None:
     )  # fmt: skip
 
 
+def _json_option(command: argparse.ArgumentParser, block: str, ignore: tuple[str, ...] = ()):
+    """``--json BLOCK``: the options as a JSON block (`cloth.cli.blocks`)."""
+    command.add_argument(
+        "--json", dest="block", metavar="BLOCK",
+        help=f"the options as {block} in JSON, each key an option's name (e.g. "
+        '\'{"thickness_mm": 0.5}\' for --thickness-mm 0.5); the workflow passes its blocks so',
+    )  # fmt: skip
+    command.set_defaults(verb=command, block_ignores=frozenset(ignore))
+
+
 def _mesh_options(parser: argparse.ArgumentParser) -> None:
     """A mesh file as a case reads it, and the options of its smooth surface."""
-    parser.add_argument("mesh", type=Path, help="mesh file (OBJ, STL, PLY, GLB, ...)")
+    parser.add_argument(
+        "mesh", type=Path, nargs="?", help="mesh file (OBJ, STL, PLY, GLB, ...; or --json's mesh)"
+    )
     parser.add_argument("--units", default="m", help="length unit of the file: m, cm or mm")
     parser.add_argument("--up", default="z", help="axis of the file that points up: x, y or z")
     parser.add_argument("--repair", action="store_true", help="let trimesh repair defects")
@@ -88,7 +100,9 @@ def build_parser() -> argparse.ArgumentParser:
         help="lab table(s) -> material.nc (curves, data, fit error)",
         description="Read lab tables (see docs/materials.md) into a material netCDF file.",
     )
-    ingest.add_argument("tables", nargs="+", type=Path, help="CSV lab table(s)")
+    ingest.add_argument(
+        "tables", nargs="*", type=Path, help="CSV lab table(s) (or --json's table)"
+    )
     ingest.add_argument("-o", "--output", type=Path, required=True, help="material.nc to write")
     ingest.add_argument("--plot", type=Path, help="also write a figure of data and curves")
     ingest.add_argument(
@@ -119,6 +133,7 @@ def build_parser() -> argparse.ArgumentParser:
         help="compression modulus / initial slope (default 0.01)",
     )
     ingest.add_argument("--name", help="fabric name (default: header name or file stem)")
+    _json_option(ingest, "a config's material block (docs/config.md)")
     ingest.set_defaults(handler=_material_ingest)
 
     body = commands.add_parser("body", help="bodies: parametric torso, mesh checks")
@@ -128,13 +143,14 @@ def build_parser() -> argparse.ArgumentParser:
         help="write the parametric torso of a size chart as a mesh",
         description="Build the smooth, watertight parametric torso of a size (m, z up).",
     )
-    torso.add_argument("--size", required=True, help="size name in the chart (e.g. S, M)")
+    torso.add_argument("--size", help="size name in the chart (e.g. S, M); required")
     torso.add_argument("--chart", type=Path, help="size chart CSV (default data/bodies)")
     for key in ("bust", "underbust", "waist", "hip"):
         torso.add_argument(f"--{key}", type=float, help=f"override the {key} girth, cm")
     torso.add_argument("--around", type=int, default=128, help="mesh points per ring")
     torso.add_argument("--rings", type=int, default=120, help="mesh rings")
     torso.add_argument("-o", "--output", type=Path, required=True, help="mesh file (.ply, .stl)")
+    _json_option(torso, "a case's torso body block (docs/config.md)", ("surface", "tissue"))
     torso.set_defaults(handler=_body_torso)
     check = body_commands.add_parser(
         "check",
@@ -153,6 +169,7 @@ def build_parser() -> argparse.ArgumentParser:
     check.add_argument(
         "--surface-file", type=Path, help="a fitted surface (cloth body fit) to use if it fits"
     )
+    _json_option(check, "a case's mesh body block (docs/config.md)", ("tissue",))
     check.set_defaults(handler=_body_check)
     fit = body_commands.add_parser(
         "fit",
@@ -161,6 +178,9 @@ def build_parser() -> argparse.ArgumentParser:
     )
     _mesh_options(fit)
     fit.add_argument("-o", "--output", type=Path, required=True, help="surface file (.nc)")
+    _json_option(
+        fit, "a case's mesh body block (docs/config.md)", ("surface", "surface_file", "tissue")
+    )
     fit.set_defaults(handler=_body_fit)
 
     pre = commands.add_parser(
@@ -265,9 +285,14 @@ def build_parser() -> argparse.ArgumentParser:
     exp.set_defaults(handler=_export)
 
     sw = commands.add_parser("sweep", help="results of a sweep -> sweep.nc, sweep.csv, design plot")
-    sw.add_argument("--index", required=True, help="JSON list of {case, material, body, reduction}")
+    sw.add_argument(
+        "results", nargs="+", type=Path, help="result.nc of each case of the index, in its order"
+    )
+    sw.add_argument(
+        "--index", required=True,
+        help="JSON list of {case, material, body, reduction, and the variant keys}",
+    )  # fmt: skip
     sw.add_argument("--targets", default="[]", help="JSON list of design targets (for the plot)")
-    sw.add_argument("--root", type=Path, default=Path("."), help="folder holding results/")
     sw.add_argument("-o", "--output", type=Path, required=True, help="sweep.nc to write")
     sw.add_argument("--csv", type=Path, required=True, help="sweep.csv to write")
     sw.add_argument("--plot", type=Path, required=True, help="design plot to write")
@@ -285,7 +310,10 @@ def build_parser() -> argparse.ArgumentParser:
 
     co = commands.add_parser("confirm", help="design.csv + confirmation results -> errors")
     co.add_argument("design", type=Path, help="design.csv from cloth design")
-    co.add_argument("--root", type=Path, default=Path("."), help="folder holding results/")
+    co.add_argument(
+        "results", nargs="*", type=Path,
+        help="result.nc of each answered target's confirmation case, in design.csv's order",
+    )  # fmt: skip
     co.add_argument("-o", "--output", type=Path, required=True, help="confirmed CSV to write")
     co.set_defaults(handler=_confirm)
 

@@ -1,12 +1,14 @@
 """The pipeline's plan from its config: every case by name, the sweep's index, the design's
-confirmation cases, checked before any job runs. ``workflow/rules/common.smk`` keeps only the
-input functions that hand these to the rules.
+confirmation cases, checked before any job runs, and the workflow's file layout (`material_file`,
+`body_file`, `case_file`, `sweep_file`: the one place that knows where each file goes; the rules
+name their files through them). ``workflow/rules/common.smk`` keeps only the input functions
+that hand these to the rules.
 
 Names: a sweep case is ``{material}__{body}__r{reduction x 1000:03d}`` plus its skin and wear
 variant's tag (`cloth.pipeline.variants`: none for a rigid, frictionless, new one); a configured
 case keeps its key; a confirmation case is `cloth.pipeline.sweep.confirm_name`. A case's material
-becomes its ingested file ``results/materials/{material}.nc``; a mesh body's smooth surface the
-pipeline's file ``results/bodies/{name}.surface.nc``.
+becomes its ingested file (``material_file("nc", material)``); a mesh body's smooth surface the
+pipeline's file (``body_file("surface.nc", name)``).
 
 Paths in the config are relative to the working directory. Where a path does not exist there
 but does beside the workflow (``base``: its base directory, holding the bundled ``data/``),
@@ -24,6 +26,33 @@ from cloth.case import Case
 from cloth.errors import InputError
 from cloth.pipeline.config import validate_case
 from cloth.pipeline.variants import Variant, sweep_variants
+
+#: Where the workflow writes its results, relative to the working directory.
+RESULTS = "results"
+
+
+def material_file(suffix: str, material: str = "{material}") -> str:
+    """A material's file: ``nc`` (ingested curves) or ``png`` (its figure); by default the
+    rules' wildcard pattern."""
+    return f"{RESULTS}/materials/{material}.{suffix}"
+
+
+def body_file(suffix: str, body: str = "{body}") -> str:
+    """A body's file: ``ply`` (a torso's mesh), ``txt`` (its check), ``surface.nc`` (a mesh's
+    fitted surface), ``check.txt``, ``curvature.png``."""
+    return f"{RESULTS}/bodies/{body}.{suffix}"
+
+
+def case_file(name: str, case: str = "{case}") -> str:
+    """A case's file: ``case.yaml``, ``initial.nc``, ``initial.png``, ``relaxed.nc``,
+    ``result.nc``, ``summary.csv``, ``garment.html`` or ``figures`` (its folder of figures)."""
+    return f"{RESULTS}/cases/{case}/{name}"
+
+
+def sweep_file(name: str) -> str:
+    """A file of the sweep and its design: ``sweep.nc``, ``sweep.csv``, ``design.png``,
+    ``sweep_on_body.png``, ``design.csv``, ``design_confirmed.csv``."""
+    return f"{RESULTS}/{name}"
 
 
 def data_path(path: str, base: str | Path | None) -> str:
@@ -44,7 +73,7 @@ def local_body(body: dict, name: str, base: str | Path | None = None) -> dict:
     if "mesh" in body:
         body["mesh"] = data_path(body["mesh"], base)
         if body.get("surface", "smooth") == "smooth":
-            body = {"surface_file": f"results/bodies/{name}.surface.nc", **body}
+            body = {"surface_file": body_file("surface.nc", name), **body}
     if "torso" in body and "chart" in body["torso"]:
         body["torso"] = {**body["torso"], "chart": data_path(body["torso"]["chart"], base)}
     return body
@@ -91,7 +120,7 @@ class Plan:
                 f"({', '.join(sorted(config['materials']))})",
                 "config", f"cases.{name}.material",
             )  # fmt: skip
-        block["material"] = f"results/materials/{material}.nc"
+        block["material"] = material_file("nc", material)
         return validate_case(block, f"config: cases.{name}")
 
     def sweep_block(
@@ -121,6 +150,24 @@ class Plan:
         table = self.config["materials"][material]["table"]
         tables = [table] if isinstance(table, str) else list(table)
         return [data_path(t, self.base) for t in tables]
+
+    def material_block(self, material: str) -> dict:
+        """A material's config block, its tables found: what ``cloth material ingest --json``
+        takes."""
+        return {**self.config["materials"][material], "table": self.material_tables(material)}
+
+    def body_block(self, name: str) -> dict:
+        """The body block of a body name (a configured body, or ``case-{case}`` for a case's
+        own), its files found (`local_body`): what ``cloth body torso``, ``fit`` and ``check``
+        take as ``--json``."""
+        cases = self.config.get("cases", {})
+        if name.startswith("case-") and name[5:] in cases:
+            return local_body(cases[name[5:]]["body"], name, self.base)
+        return local_body(self.config["bodies"][name], name, self.base)
+
+    def sweep_results(self) -> list[str]:
+        """The result file of every sweep case, in the index's order (``cloth sweep``'s)."""
+        return [case_file("result.nc", entry["case"]) for entry in self.index]
 
 
 def _expand_sweep(plan: Plan) -> None:

@@ -34,21 +34,29 @@ def _dims(index: list[dict]) -> tuple[str, ...]:
     return ("material", "body", "reduction", *entry_keys(index))
 
 
-def collect(index: list[dict], root: str | Path = ".") -> xr.Dataset:
-    """Stack ``results/cases/{case}/result.nc`` of every index entry (case, material, body,
-    reduction, and the variant keys the sweep varies: `cloth.pipeline.variants`) into the sweep
-    dataset, a dimension per key and the ``landmark``."""
+def _pair(items: list, paths: list[str | Path], what: str) -> list[tuple]:
+    """``items`` with their result files, one each in order (`InputError` if the counts differ)."""
+    if len(items) != len(paths):
+        raise InputError(
+            f"give one result.nc per {what} ({len(items)}), got {len(paths)}", field="results"
+        )
+    return list(zip(items, paths, strict=True))
+
+
+def collect(index: list[dict], results: list[str | Path]) -> xr.Dataset:
+    """Stack the ``results`` (a result.nc per index entry, in its order) of the index entries
+    (case, material, body, reduction, and the variant keys the sweep varies:
+    `cloth.pipeline.variants`) into the sweep dataset, a dimension per key and the ``landmark``."""
     dims = _dims(index)
     values = {
         dim: sorted({e[dim] if dim in ("material", "body") else float(e[dim]) for e in index})
         for dim in dims
     }
-    results = {}
+    datasets = {}
     landmarks: list[str] = []
-    for entry in index:
-        path = Path(root) / "results" / "cases" / entry["case"] / "result.nc"
+    for entry, path in _pair(index, results, "sweep case"):
         ds = read_netcdf(path, "result", ("pressure_mean",))
-        results[entry["case"]] = ds
+        datasets[entry["case"]] = ds
         for name in ds["landmark"].values.tolist():
             if name not in landmarks:
                 landmarks.append(name)
@@ -56,7 +64,7 @@ def collect(index: list[dict], root: str | Path = ".") -> xr.Dataset:
     data = {name: np.full(shape, np.nan) for name in FIELDS}
     converged = np.zeros(shape[:-1], dtype=np.int8)
     for entry in index:
-        ds = results[entry["case"]]
+        ds = datasets[entry["case"]]
         i = tuple(
             values[dim].index(entry[dim] if dim in ("material", "body") else float(entry[dim]))
             for dim in dims
@@ -217,14 +225,18 @@ def confirm_name(row: dict) -> str:
     return f"design__{row['material']}__{row['body']}__{row['landmark']}{tag}"
 
 
-def confirm(design_rows: list[dict[str, str]], root: str | Path = ".") -> list[dict[str, object]]:
-    """The confirmed pressure of every answered target, and its error against the target."""
+def confirm(
+    design_rows: list[dict[str, str]], results: list[str | Path]
+) -> list[dict[str, object]]:
+    """The confirmed pressure of every answered target (``results``: the result.nc of each
+    answered row's confirmation case, in the rows' order), and its error against the target."""
+    answered = [row for row in design_rows if row["status"] == "ok"]
+    paths = {id(row): path for row, path in _pair(answered, results, "answered target")}
     out = []
     for row in design_rows:
         record: dict[str, object] = dict(row)
         if row["status"] == "ok":
-            path = Path(root) / "results" / "cases" / confirm_name(row) / "result.nc"
-            ds = read_netcdf(path, "result", ("pressure_mean",))
+            ds = read_netcdf(paths[id(row)], "result", ("pressure_mean",))
             confirmed = float(ds["pressure_mean"].sel(landmark=row["landmark"]))
             goal = float(row["target_Pa"])
             record.update(

@@ -25,12 +25,13 @@ log = logging.getLogger("cloth")
 
 
 def sweep_files(
-    index: list[dict], targets: list[dict], root: Path, output: Path, csv: Path, plot: Path,
-    body_plot: Path | None = None,
+    index: list[dict], results: list[Path], targets: list[dict], output: Path, csv: Path,
+    plot: Path, body_plot: Path | None = None,
 ) -> None:  # fmt: skip
-    """The results of the cases in ``index`` (case, material, body, reduction), under ``root``
-    /results/cases -> sweep.nc, sweep.csv, the design plot and the small multiples on the body."""
-    ds = collect(index, root)
+    """The ``results`` (a result.nc each) of the cases in ``index`` (case, material, body,
+    reduction, variant keys; in its order) -> sweep.nc, sweep.csv, the design plot and the small
+    multiples on the body."""
+    ds = collect(index, results)
     write_netcdf(ds, output)
     rows = sweep_rows(ds)
     write_rows(rows, csv, list(rows[0]) if rows else ["material"])
@@ -43,10 +44,9 @@ def sweep_files(
             return ", ".join(part for part in (*parts, Variant.of(e).label()) if part)
 
         cases = [
-            (label(e), float(e["reduction"]),
-             read_netcdf(root / "results" / "cases" / e["case"] / "result.nc", "result"))
-            for e in index
-        ]  # fmt: skip
+            (label(e), float(e["reduction"]), read_netcdf(path, "result"))
+            for e, path in zip(index, results, strict=True)
+        ]
         plot_sweep_on_body(cases, body_plot)
 
 
@@ -66,9 +66,10 @@ def design_file(sweep: Path, targets: list[dict], output: Path) -> None:
     write_rows(rows, output, design_header(rows))
 
 
-def confirm_file(design: Path, root: Path, output: Path) -> None:
-    """design.csv and the confirmation cases' results under ``root`` -> the confirmed CSV."""
-    rows = confirm(read_design(design), root)
+def confirm_file(design: Path, results: list[Path], output: Path) -> None:
+    """design.csv and the confirmation cases' ``results`` (a result.nc per answered row, in its
+    order) -> the confirmed CSV."""
+    rows = confirm(read_design(design), results)
     header = list(dict.fromkeys(k for row in rows for k in row))
     write_rows(rows, output, header or ["material"])
     for row in rows:

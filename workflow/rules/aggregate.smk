@@ -3,11 +3,11 @@
 
 rule aggregate:
     input:
-        "results/cases/{case}/relaxed.nc",
+        case_file("relaxed.nc"),
     output:
-        nc="results/cases/{case}/result.nc",
+        nc=case_file("result.nc"),
         csv=report(
-            "results/cases/{case}/summary.csv",
+            case_file("summary.csv"),
             caption="../report/summary.rst",
             category="Cases",
             subcategory="{case}",

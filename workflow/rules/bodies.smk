@@ -5,17 +5,17 @@
 
 rule body_mesh:
     output:
-        mesh="results/bodies/{body}.ply",
-        check="results/bodies/{body}.txt",
+        mesh=body_file("ply"),
+        check=body_file("txt"),
     log:
         "logs/body_mesh/{body}.log",
     conda:
         "../envs/cloth.yaml"
     params:
-        flags=torso_flags,
+        block=body_json,
         cloth_version=CLOTH_VERSION,
     shell:
-        "(cloth body torso {params.flags} -o {output.mesh:q} && "
+        "(cloth body torso --json {params.block:q} -o {output.mesh:q} && "
         "cloth body check {output.mesh:q} --surface mesh > {output.check:q}.tmp && "
         "mv {output.check:q}.tmp {output.check:q}) > {log:q} 2>&1"
 
@@ -24,7 +24,7 @@ rule body_surface:
     input:
         surface_mesh,
     output:
-        "results/bodies/{body}.surface.nc",
+        body_file("surface.nc"),
     log:
         "logs/body_surface/{body}.log",
     conda:
@@ -33,20 +33,20 @@ rule body_surface:
         mem_mb=SURFACE_RESOURCES.mem_mb,
         runtime=SURFACE_RESOURCES.runtime,
     params:
-        flags=surface_flags,
+        block=body_json,
         cloth_version=CLOTH_VERSION,
     shell:
-        "cloth body fit {input:q} {params.flags} -o {output:q} > {log:q} 2>&1"
+        "cloth body fit --json {params.block:q} -o {output:q} > {log:q} 2>&1"
 
 
 rule body_check:
     input:
         mesh=surface_mesh,
-        surface="results/bodies/{body}.surface.nc",
+        surface=body_file("surface.nc"),
     output:
-        check="results/bodies/{body}.check.txt",
+        check=body_file("check.txt"),
         curvature=report(
-            "results/bodies/{body}.curvature.png",
+            body_file("curvature.png"),
             caption="../report/curvature.rst",
             category="Bodies",
         ),
@@ -55,9 +55,8 @@ rule body_check:
     conda:
         "../envs/cloth.yaml"
     params:
-        flags=surface_flags,
+        block=body_json,
         cloth_version=CLOTH_VERSION,
     shell:
-        "(cloth body check {input.mesh:q} {params.flags} --surface-file {input.surface:q} "
-        "--curvature {output.curvature:q} "
+        "(cloth body check --json {params.block:q} --curvature {output.curvature:q} "
         "> {output.check:q}.tmp && mv {output.check:q}.tmp {output.check:q}) > {log:q} 2>&1"

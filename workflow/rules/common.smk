@@ -1,14 +1,21 @@
-# Helpers shared by the rules: config lookups, case expansion and the list of final outputs.
+# Helpers shared by the rules: the plan's cases and blocks as the rules take them (JSON), and the
+# list of final outputs. Where each file goes is the plan's (cloth/pipeline/plan.py: material_file,
+# body_file, case_file, sweep_file).
 import importlib.util
 import json
-import shlex
 
 from snakemake.logging import logger
 
 from cloth import __version__ as CLOTH_VERSION
 from cloth.errors import InputError
 from cloth.pipeline.plan import body_files as plan_body_files
-from cloth.pipeline.plan import local_body, make_plan
+from cloth.pipeline.plan import (
+    body_file,
+    case_file,
+    make_plan,
+    material_file,
+    sweep_file,
+)
 from cloth.pipeline.resources import stage_resources, surface_resources
 
 
@@ -17,46 +24,19 @@ wildcard_constraints:
     body="[A-Za-z0-9][A-Za-z0-9_-]*",
 
 
-def material_config(name):
-    """The config block of material ``name``."""
-    return config["materials"][name]
-
-
 def material_tables(wildcards):
     """The lab table(s) of a material, as a list of paths."""
     return PLAN.material_tables(wildcards.material)
 
 
-INGEST_FLAGS = {
-    "knots": "--knots",
-    "branch": "--branch",
-    "cycle": "--cycle",
-    "thickness_mm": "--thickness-mm",
-    "specimen_width_mm": "--specimen-width-mm",
-    "gauge_length_mm": "--gauge-length-mm",
-    "compression_ratio": "--compression-ratio",
-    "name": "--name",
-}
+def material_json(wildcards):
+    """A material's config block, its tables found, for `cloth material ingest --json`."""
+    return json.dumps(PLAN.material_block(wildcards.material), sort_keys=True)
 
 
-def ingest_flags(wildcards):
-    """CLI flags of `cloth material ingest` from a material's config block."""
-    block = material_config(wildcards.material)
-    flags = []
-    for key, flag in INGEST_FLAGS.items():
-        if key in block:
-            flags += [flag, str(block[key])]
-    for direction in block.get("directions", []):
-        flags += ["--direction", direction]
-    return " ".join(shlex.quote(flag) for flag in flags)
-
-
-def body_block(name):
-    """The body block of a body name (a configured body, or case-{case} for a case's own),
-    its files found."""
-    if name.startswith("case-") and name[5:] in config.get("cases", {}):
-        return local_body(config["cases"][name[5:]]["body"], name, workflow.basedir)
-    return local_body(config["bodies"][name], name, workflow.basedir)
+def body_json(wildcards):
+    """A body's block, its files found, for `cloth body torso/fit/check --json`."""
+    return json.dumps(PLAN.body_block(wildcards.body), sort_keys=True)
 
 
 PLAN = make_plan(config, workflow.basedir)
@@ -91,34 +71,12 @@ def case_material(wildcards):
     return case_block(wildcards.case).material
 
 
-def torso_flags(wildcards):
-    """`cloth body torso` flags of a torso body block."""
-    spec = body_block(wildcards.body)["torso"]
-    flags = ["--size", spec["size"]]
-    for key in ("chart", "around", "rings"):
-        if key in spec:
-            flags += [f"--{key}", str(spec[key])]
-    return " ".join(shlex.quote(flag) for flag in flags)
-
-
-def surface_flags(wildcards):
-    """`cloth body fit` flags of a mesh body block."""
-    block = body_block(wildcards.body)
-    flags = []
-    for key in ("units", "up", "smoothing", "spacing"):
-        if key in block:
-            flags += [f"--{key}", str(block[key])]
-    if block.get("repair"):
-        flags.append("--repair")
-    return " ".join(shlex.quote(flag) for flag in flags)
-
-
 def surface_mesh(wildcards):
-    return body_block(wildcards.body)["mesh"]
+    return PLAN.body_block(wildcards.body)["mesh"]
 
 
 def sweep_results(wildcards):
-    return [f"results/cases/{entry['case']}/result.nc" for entry in SWEEP_INDEX]
+    return PLAN.sweep_results()
 
 
 def figure_peers(wildcards):
@@ -126,7 +84,7 @@ def figure_peers(wildcards):
     so that the sweep's figures compare), or none for a case outside the sweep."""
     if wildcards.case not in SWEEP_BLOCKS:
         return []
-    return [f"results/cases/{case}/result.nc" for case in sorted(SWEEP_BLOCKS)]
+    return [case_file("result.nc", case) for case in sorted(SWEEP_BLOCKS)]
 
 
 def confirmation_results(wildcards):
@@ -134,9 +92,7 @@ def confirmation_results(wildcards):
 
     rows = read_design(checkpoints.design.get().output[0])
     return [
-        f"results/cases/{confirm_name(r)}/result.nc"
-        for r in rows
-        if r["status"] == "ok"
+        case_file("result.nc", confirm_name(r)) for r in rows if r["status"] == "ok"
     ]
 
 
@@ -152,35 +108,20 @@ if not VIEW:
 
 def all_outputs():
     """Every final output of the configured pipeline."""
-    torsos = [n for n, b in config.get("bodies", {}).items() if "torso" in b]
-    sweep = expand("results/bodies/{body}.ply", body=torsos)
-    sweep += expand(
-        "results/bodies/{body}.check.txt",
-        body=[n for n, b in config.get("bodies", {}).items() if "mesh" in b],
-    )
+    bodies = config.get("bodies", {})
+    sweep = [body_file("ply", n) for n, b in bodies.items() if "torso" in b]
+    sweep += [body_file("check.txt", n) for n, b in bodies.items() if "mesh" in b]
     if SWEEP_INDEX:
-        sweep += ["results/sweep.nc", "results/sweep.csv", "results/design.png"]
-        sweep.append("results/sweep_on_body.png")
-        if config.get("targets"):
-            sweep.append("results/design_confirmed.csv")
+        names = ["sweep.nc", "sweep.csv", "design.png", "sweep_on_body.png"]
+        names += ["design_confirmed.csv"] if config.get("targets") else []
+        sweep += [sweep_file(name) for name in names]
+    materials = sorted(config["materials"])
+    files = ["initial.nc", "initial.png", "relaxed.nc", "result.nc", "summary.csv"]
+    files += ["figures/stress_weft.png", *(["garment.html"] if VIEW else [])]
     return (
         sweep
-        + expand(
-            ["results/materials/{material}.nc", "results/materials/{material}.png"],
-            material=sorted(config["materials"]),
-        )
-        + expand(
-            [
-                "results/cases/{case}/initial.nc",
-                "results/cases/{case}/initial.png",
-                "results/cases/{case}/relaxed.nc",
-                "results/cases/{case}/result.nc",
-                "results/cases/{case}/summary.csv",
-                "results/cases/{case}/figures/stress_weft.png",
-                *(["results/cases/{case}/garment.html"] if VIEW else []),
-            ],
-            case=sorted(CASES),
-        )
+        + [material_file(suffix, m) for m in materials for suffix in ("nc", "png")]
+        + [case_file(name, case) for case in sorted(CASES) for name in files]
     )
 
 

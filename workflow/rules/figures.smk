@@ -5,11 +5,11 @@ from cloth.figures.plots import FIGURES
 
 rule figures:
     input:
-        result="results/cases/{case}/result.nc",
+        result=case_file("result.nc"),
         peers=figure_peers,
     output:
         report(
-            expand("results/cases/{{case}}/figures/{figure}.png", figure=FIGURES),
+            [case_file(f"figures/{figure}.png") for figure in FIGURES],
             caption="../report/figures.rst",
             category="Cases",
             subcategory="{case}",
@@ -22,7 +22,7 @@ rule figures:
         mem_mb=case_resource("figures", "mem_mb"),
         runtime=case_resource("figures", "runtime"),
     params:
-        folder=lambda wildcards: f"results/cases/{wildcards.case}/figures",
+        folder=lambda wildcards: case_file("figures", wildcards.case),
         cloth_version=CLOTH_VERSION,
     shell:
         "cloth plot {input.result:q} --peers {input.peers:q} -o {params.folder:q} > {log:q} 2>&1"
@@ -30,10 +30,10 @@ rule figures:
 
 rule view:
     input:
-        "results/cases/{case}/result.nc",
+        case_file("result.nc"),
     output:
         report(
-            "results/cases/{case}/garment.html",
+            case_file("garment.html"),
             caption="../report/view.rst",
             category="Cases",
             subcategory="{case}",

@@ -5,9 +5,9 @@ rule ingest_material:
     input:
         tables=material_tables,
     output:
-        nc="results/materials/{material}.nc",
+        nc=material_file("nc"),
         png=report(
-            "results/materials/{material}.png",
+            material_file("png"),
             caption="../report/material.rst",
             category="Materials",
         ),
@@ -16,8 +16,8 @@ rule ingest_material:
     conda:
         "../envs/cloth.yaml"
     params:
-        flags=ingest_flags,
+        block=material_json,
         cloth_version=CLOTH_VERSION,
     shell:
-        "cloth material ingest {input.tables:q} -o {output.nc:q} --plot {output.png:q} "
-        "{params.flags} > {log:q} 2>&1"
+        "cloth material ingest --json {params.block:q} -o {output.nc:q} "
+        "--plot {output.png:q} > {log:q} 2>&1"

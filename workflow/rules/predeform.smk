@@ -5,7 +5,7 @@ rule write_case:
     input:
         design_answer,
     output:
-        "results/cases/{case}/case.yaml",
+        case_file("case.yaml"),
     log:
         "logs/write_case/{case}.log",
     conda:
@@ -19,13 +19,13 @@ rule write_case:
 
 rule predeform:
     input:
-        case="results/cases/{case}/case.yaml",
+        case=case_file("case.yaml"),
         material=case_material,
         body=body_files,
     output:
-        nc="results/cases/{case}/initial.nc",
+        nc=case_file("initial.nc"),
         png=report(
-            "results/cases/{case}/initial.png",
+            case_file("initial.png"),
             caption="../report/initial.rst",
             category="Cases",
             subcategory="{case}",

@@ -3,9 +3,9 @@
 
 rule relax:
     input:
-        "results/cases/{case}/initial.nc",
+        case_file("initial.nc"),
     output:
-        "results/cases/{case}/relaxed.nc",
+        case_file("relaxed.nc"),
     log:
         "logs/relax/{case}.log",
     benchmark:

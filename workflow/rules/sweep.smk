@@ -6,13 +6,15 @@ rule sweep:
     input:
         sweep_results,
     output:
-        nc="results/sweep.nc",
-        csv=report("results/sweep.csv", caption="../report/sweep.rst", category="Sweep"),
+        nc=sweep_file("sweep.nc"),
+        csv=report(
+            sweep_file("sweep.csv"), caption="../report/sweep.rst", category="Sweep"
+        ),
         png=report(
-            "results/design.png", caption="../report/design.rst", category="Sweep"
+            sweep_file("design.png"), caption="../report/design.rst", category="Sweep"
         ),
         body=report(
-            "results/sweep_on_body.png",
+            sweep_file("sweep_on_body.png"),
             caption="../report/sweep_on_body.rst",
             category="Sweep",
         ),
@@ -25,15 +27,16 @@ rule sweep:
         targets=json.dumps(config.get("targets", [])),
         cloth_version=CLOTH_VERSION,
     shell:
-        "cloth sweep --index {params.index:q} --targets {params.targets:q} -o {output.nc:q} "
+        "cloth sweep {input:q} --index {params.index:q} --targets {params.targets:q} "
+        "-o {output.nc:q} "
         "--csv {output.csv:q} --plot {output.png:q} --body-plot {output.body:q} > {log:q} 2>&1"
 
 
 checkpoint design:
     input:
-        "results/sweep.nc",
+        sweep_file("sweep.nc"),
     output:
-        "results/design.csv",
+        sweep_file("design.csv"),
     log:
         "logs/design.log",
     conda:
@@ -47,11 +50,11 @@ checkpoint design:
 
 rule confirm:
     input:
-        design="results/design.csv",
+        design=sweep_file("design.csv"),
         results=confirmation_results,
     output:
         report(
-            "results/design_confirmed.csv",
+            sweep_file("design_confirmed.csv"),
             caption="../report/design_confirmed.rst",
             category="Sweep",
         ),
@@ -62,4 +65,4 @@ rule confirm:
     params:
         cloth_version=CLOTH_VERSION,
     shell:
-        "cloth confirm {input.design:q} -o {output:q} > {log:q} 2>&1"
+        "cloth confirm {input.design:q} {input.results:q} -o {output:q} > {log:q} 2>&1"
