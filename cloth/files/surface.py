@@ -3,8 +3,9 @@
 A fit (`cloth.bodies.surface`) takes seconds on a scan; predeform, relax and aggregate all need
 it, so it is fitted once and kept: in the file the case's ``surface_file`` names (the
 pipeline's ``cloth.pipeline.plan.body_file("surface.nc")``, made by rule ``body_surface``), else
-in the cache folder (`cache_dir`) under its key, the sha256 of the mesh as used (metres, z up) and the options. A
-file whose key differs from the mesh's is not used: the surface is fitted anew.
+in the cache folder (`cache_dir`) under its key, the sha256 of the mesh as used (metres, z up)
+and the options. A file whose key differs from the mesh's is not used: the surface is fitted
+anew.
 
 Variables (CF-1.11): ``coefficient`` (x, y, z), m: the cubic B-spline coefficients (the smoothed
 signed distance, positive outside), zlib-compressed; coordinates ``x``, ``y``, ``z`` (m) at the
