@@ -100,9 +100,7 @@ def build_parser() -> argparse.ArgumentParser:
         help="lab table(s) -> material.nc (curves, data, fit error)",
         description="Read lab tables (see docs/materials.md) into a material netCDF file.",
     )
-    ingest.add_argument(
-        "tables", nargs="*", type=Path, help="CSV lab table(s) (or --json's table)"
-    )
+    ingest.add_argument("tables", nargs="*", type=Path, help="CSV lab table(s) (or --json's table)")
     ingest.add_argument("-o", "--output", type=Path, required=True, help="material.nc to write")
     ingest.add_argument("--plot", type=Path, help="also write a figure of data and curves")
     ingest.add_argument(
