@@ -110,3 +110,33 @@ def test_files_are_found_where_given_else_beside_the_workflow(tmp_path, monkeypa
     assert make_plan(CONFIG, ROOT).material_tables("powernet") == [table]  # the user's, here
     (tmp_path / table).unlink()
     assert make_plan(CONFIG, ROOT).material_tables("powernet") == [str(ROOT / table)]
+
+
+def test_a_non_finite_config_number_is_refused_but_a_rigid_tissue_modulus_is_not():
+    config = copy.deepcopy(CONFIG)
+    config["targets"] = [{"landmark": "waist", "pressure_mmHg": float("nan")}]
+    with pytest.raises(InputError) as error:
+        make_plan(config, ROOT)
+    assert error.value.field == "targets.0.pressure_mmHg" and "finite" in str(error.value)
+    config = copy.deepcopy(CONFIG)
+    config["sweep"] |= {"tissue_moduli": [float("inf"), 2e4], "tissue_thickness": 0.01}
+    plan = make_plan(config, ROOT)  # .inf: a rigid body (the schema says so)
+    assert sum(case.body.tissue is None for case in plan.cases.values()) == 8
+
+
+@pytest.mark.parametrize(
+    ("change", "field"),
+    [
+        (lambda c: c["materials"]["powernet"].update(table="nope.csv"), "materials.powernet.table"),
+        (lambda c: c["bodies"].update(scan={"mesh": "data"}), "bodies.scan.mesh"),
+        (lambda c: c["bodies"]["torso_M"]["torso"].update(chart="no.csv"), "bodies.torso_M.torso"),
+    ],
+)
+def test_a_config_file_that_is_not_there_is_named_before_any_job(tmp_path, monkeypatch, change,
+                                                                  field):  # fmt: skip
+    monkeypatch.chdir(tmp_path)
+    config = copy.deepcopy(CONFIG)
+    change(config)
+    with pytest.raises(InputError) as error:
+        make_plan(config, ROOT)
+    assert error.value.field.startswith(field) and error.value.source == "config"

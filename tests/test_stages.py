@@ -102,13 +102,13 @@ def test_a_case_is_validated_once_where_it_enters(tmp_path, monkeypatch):
     import cloth.pipeline.config
 
     calls = []
-    real = cloth.pipeline.config.jsonschema.Draft202012Validator
+    real = cloth.pipeline.config.Validator
 
     def counting(*args, **kwargs):
         calls.append(1)
         return real(*args, **kwargs)
 
-    monkeypatch.setattr(cloth.pipeline.config.jsonschema, "Draft202012Validator", counting)
+    monkeypatch.setattr(cloth.pipeline.config, "Validator", counting)
     case = _case(tmp_path)
     base = ["--log-level", "WARNING"]
     assert main([*base, "predeform", str(case), "--base-dir", str(ROOT), "-o",

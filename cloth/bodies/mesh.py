@@ -160,6 +160,23 @@ class MeshBody:
                 path,
                 "mesh",
             )
+        try:
+            return cls._checked(mesh, path, units, up, repair, backend, allow_holes)
+        except InputError:
+            raise
+        except Exception as exc:  # a malformed file trimesh read but cannot index (many types)
+            raise InputError(
+                f"the vertices and faces do not form a mesh ({type(exc).__name__}: "
+                f"{str(exc)[:80]}); fix the export",
+                path,
+                "mesh",
+            ) from None
+
+    @classmethod
+    def _checked(
+        cls, mesh, path, units: str, up: str, repair: bool, backend: str, allow_holes: bool
+    ) -> MeshBody:
+        """The body of a loaded mesh, checked (`load`)."""
         mesh.process()  # merge duplicate vertices (as trimesh.load(process=True) does)
         _, counts = np.unique(mesh.edges_sorted, axis=0, return_counts=True)
         if np.any(counts > 2):

@@ -7,6 +7,7 @@ nothing is written in that case, since every output is written atomically after 
 
 from __future__ import annotations
 
+import argparse
 import logging
 import sys
 from collections.abc import Sequence
@@ -15,8 +16,24 @@ from cloth.cli.blocks import apply_block
 from cloth.cli.parser import build_parser
 from cloth.errors import EXIT_INPUT, InputError, StageFailed
 from cloth.io import set_command
+from cloth.paths import output_path
 
 __all__ = ["build_parser", "main"]
+
+
+#: Options that name where a command writes (``-o`` and the extra figures and tables).
+OUTPUTS = ("output", "plot", "csv", "summary", "curvature", "body_plot")
+
+
+def check_outputs(args: argparse.Namespace) -> None:
+    """Refuse in one line an output that cannot be written where it is asked for, before any
+    work (`cloth.paths.output_path`): ``-o`` of ``run`` and ``plot`` is a folder, the others
+    files."""
+    for dest in OUTPUTS:
+        value = getattr(args, dest, None)
+        if value is not None:
+            folder = dest == "output" and getattr(args, "output_folder", False)
+            output_path(value, "--" + dest.replace("_", "-"), folder)
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -34,6 +51,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         if getattr(args, "block", None) is not None and getattr(args, "verb", None) is not None:
             apply_block(args.verb, args, args.block_ignores)
+        check_outputs(args)
         return handler(args)
     except InputError as exc:
         print(f"cloth: error: {exc}", file=sys.stderr)

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 from pathlib import Path
+from typing import NoReturn
 
 from cloth import __version__
 from cloth.cli.handlers import (
@@ -24,6 +25,22 @@ from cloth.cli.handlers import (
     _sweep,
     _view,
 )
+from cloth.errors import EXIT_INPUT
+
+
+class Parser(argparse.ArgumentParser):
+    """argparse's parser whose errors are one line (the argument, what is wrong, where to look)
+    with exit status 2, like every other refusal of the command."""
+
+    def error(self, message: str) -> NoReturn:
+        self.exit(EXIT_INPUT, f"cloth: error: {message}; see {self.prog} --help\n")
+
+
+def _path(text: str) -> Path:
+    """A path argument: not empty (``Path("")`` would be the working directory)."""
+    if not text.strip():
+        raise argparse.ArgumentTypeError("give a path, not an empty string")
+    return Path(text)
 
 
 def _positive_int(text: str) -> int:
@@ -54,7 +71,7 @@ def _json_option(command: argparse.ArgumentParser, block: str, ignore: tuple[str
 def _mesh_options(parser: argparse.ArgumentParser) -> None:
     """A mesh file as a case reads it, and the options of its smooth surface."""
     parser.add_argument(
-        "mesh", type=Path, nargs="?", help="mesh file (OBJ, STL, PLY, GLB, ...; or --json's mesh)"
+        "mesh", type=_path, nargs="?", help="mesh file (OBJ, STL, PLY, GLB, ...; or --json's mesh)"
     )
     parser.add_argument("--units", default="m", help="length unit of the file: m, cm or mm")
     parser.add_argument("--up", default="z", help="axis of the file that points up: x, y or z")
@@ -79,7 +96,7 @@ def _mesh_options(parser: argparse.ArgumentParser) -> None:
 
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of the ``cloth`` command."""
-    parser = argparse.ArgumentParser(
+    parser = Parser(
         prog="cloth",
         description="Stress and body pressure of stretch fabric worn on a body "
         "(spring-particle model).",
@@ -100,9 +117,11 @@ def build_parser() -> argparse.ArgumentParser:
         help="lab table(s) -> material.nc (curves, data, fit error)",
         description="Read lab tables (see docs/materials.md) into a material netCDF file.",
     )
-    ingest.add_argument("tables", nargs="*", type=Path, help="CSV lab table(s) (or --json's table)")
-    ingest.add_argument("-o", "--output", type=Path, required=True, help="material.nc to write")
-    ingest.add_argument("--plot", type=Path, help="also write a figure of data and curves")
+    ingest.add_argument(
+        "tables", nargs="*", type=_path, help="CSV lab table(s) (or --json's table)"
+    )
+    ingest.add_argument("-o", "--output", type=_path, required=True, help="material.nc to write")
+    ingest.add_argument("--plot", type=_path, help="also write a figure of data and curves")
     ingest.add_argument(
         "--direction",
         action="append",
@@ -142,12 +161,12 @@ def build_parser() -> argparse.ArgumentParser:
         description="Build the smooth, watertight parametric torso of a size (m, z up).",
     )
     torso.add_argument("--size", help="size name in the chart (e.g. S, M); required")
-    torso.add_argument("--chart", type=Path, help="size chart CSV (default data/bodies)")
+    torso.add_argument("--chart", type=_path, help="size chart CSV (default data/bodies)")
     for key in ("bust", "underbust", "waist", "hip"):
         torso.add_argument(f"--{key}", type=float, help=f"override the {key} girth, cm")
     torso.add_argument("--around", type=int, default=128, help="mesh points per ring")
     torso.add_argument("--rings", type=int, default=120, help="mesh rings")
-    torso.add_argument("-o", "--output", type=Path, required=True, help="mesh file (.ply, .stl)")
+    torso.add_argument("-o", "--output", type=_path, required=True, help="mesh file (.ply, .stl)")
     _json_option(torso, "a case's torso body block (docs/config.md)", ("surface", "tissue"))
     torso.set_defaults(handler=_body_torso)
     check = body_commands.add_parser(
@@ -162,10 +181,10 @@ def build_parser() -> argparse.ArgumentParser:
         help="contact surface: smooth (fit it and report its deviation) or mesh (the facets)",
     )  # fmt: skip
     check.add_argument(
-        "--curvature", type=Path, help="write the smooth surface's mean curvature figure (PNG)"
+        "--curvature", type=_path, help="write the smooth surface's mean curvature figure (PNG)"
     )
     check.add_argument(
-        "--surface-file", type=Path, help="a fitted surface (cloth body fit) to use if it fits"
+        "--surface-file", type=_path, help="a fitted surface (cloth body fit) to use if it fits"
     )
     _json_option(check, "a case's mesh body block (docs/config.md)", ("tissue",))
     check.set_defaults(handler=_body_check)
@@ -175,7 +194,7 @@ def build_parser() -> argparse.ArgumentParser:
         description="Fit (or reuse) the smooth contact surface of a mesh body (docs/bodies.md).",
     )
     _mesh_options(fit)
-    fit.add_argument("-o", "--output", type=Path, required=True, help="surface file (.nc)")
+    fit.add_argument("-o", "--output", type=_path, required=True, help="surface file (.nc)")
     _json_option(
         fit, "a case's mesh body block (docs/config.md)", ("surface", "surface_file", "tissue")
     )
@@ -186,13 +205,13 @@ def build_parser() -> argparse.ArgumentParser:
         help="case.yaml -> initial.nc (the garment wrapped on the body)",
         description="Cut the pattern of a case and wrap it around the body (docs/config.md).",
     )
-    pre.add_argument("case", type=Path, help="case YAML file")
-    pre.add_argument("-o", "--output", type=Path, required=True, help="initial.nc to write")
+    pre.add_argument("case", type=_path, help="case YAML file")
+    pre.add_argument("-o", "--output", type=_path, required=True, help="initial.nc to write")
     pre.add_argument(
-        "--base-dir", type=Path, help="folder relative paths in the case are relative to "
+        "--base-dir", type=_path, help="folder relative paths in the case are relative to "
         "(default: the case file's folder)",
     )  # fmt: skip
-    pre.add_argument("--plot", type=Path, help="also write a 3D figure of the wrapped garment")
+    pre.add_argument("--plot", type=_path, help="also write a 3D figure of the wrapped garment")
     _force_option(pre)
     pre.set_defaults(handler=_predeform)
 
@@ -218,8 +237,8 @@ def build_parser() -> argparse.ArgumentParser:
         help="initial.nc -> relaxed.nc (equilibrium on the body)",
         description="Relax a wrapped garment to equilibrium (docs/solvers.md).",
     )
-    rel.add_argument("initial", type=Path, help="initial.nc from cloth predeform")
-    rel.add_argument("-o", "--output", type=Path, required=True, help="relaxed.nc to write")
+    rel.add_argument("initial", type=_path, help="initial.nc from cloth predeform")
+    rel.add_argument("-o", "--output", type=_path, required=True, help="relaxed.nc to write")
     solver_options(rel)
     rel.set_defaults(handler=_relax)
 
@@ -227,18 +246,18 @@ def build_parser() -> argparse.ArgumentParser:
         "run", help="case.yaml -> every stage into a folder: initial.nc, relaxed.nc, "
         "result.nc, summary.csv, figures/ and garment.html",
     )  # fmt: skip
-    run.add_argument("case", type=Path, help="case YAML file")
-    run.add_argument("-o", "--output", type=Path, required=True, help="output folder")
+    run.add_argument("case", type=_path, help="case YAML file")
+    run.add_argument("-o", "--output", type=_path, required=True, help="output folder")
     run.add_argument(
         "--stop-after", choices=("predeform", "relax", "aggregate"),
         help="stop after this stage (default: run them all)",
     )  # fmt: skip
     run.add_argument(
-        "--base-dir", type=Path, help="folder relative paths in the case are relative to "
+        "--base-dir", type=_path, help="folder relative paths in the case are relative to "
         "(default: the case file's folder)",
     )  # fmt: skip
     solver_options(run)
-    run.set_defaults(handler=_run)
+    run.set_defaults(handler=_run, output_folder=True)
 
     agg = commands.add_parser(
         "aggregate",
@@ -246,14 +265,14 @@ def build_parser() -> argparse.ArgumentParser:
         description="Compute node and spring stresses, body pressure and summaries "
         "(docs/outputs.md).",
     )
-    agg.add_argument("relaxed", type=Path, help="relaxed.nc from cloth relax")
-    agg.add_argument("-o", "--output", type=Path, required=True, help="result.nc to write")
-    agg.add_argument("--summary", type=Path, help="also write the landmark summary CSV")
+    agg.add_argument("relaxed", type=_path, help="relaxed.nc from cloth relax")
+    agg.add_argument("-o", "--output", type=_path, required=True, help="result.nc to write")
+    agg.add_argument("--summary", type=_path, help="also write the landmark summary CSV")
     agg.set_defaults(handler=_aggregate)
 
     plot = commands.add_parser("plot", help="result.nc -> figures (PNG) in a folder")
-    plot.add_argument("result", type=Path, help="result.nc from cloth aggregate")
-    plot.add_argument("-o", "--output", type=Path, required=True, help="folder for the figures")
+    plot.add_argument("result", type=_path, help="result.nc from cloth aggregate")
+    plot.add_argument("-o", "--output", type=_path, required=True, help="folder for the figures")
     plot.add_argument(
         "--stress-range", type=float, nargs=2, metavar=("LOW", "HIGH"),
         help="fixed colour range of the stress maps, Pa (to compare runs)",
@@ -263,56 +282,56 @@ def build_parser() -> argparse.ArgumentParser:
         help="fixed colour range of the pressure map, mmHg",
     )  # fmt: skip
     plot.add_argument(
-        "--peers", type=Path, nargs="*", default=[], metavar="RESULT",
+        "--peers", type=_path, nargs="*", default=[], metavar="RESULT",
         help="result.nc files (a sweep's) whose values set the colour ranges not given, so "
         "that the figures of a sweep compare (default: this result's own range)",
     )  # fmt: skip
-    plot.set_defaults(handler=_plot)
+    plot.set_defaults(handler=_plot, output_folder=True)
 
     view = commands.add_parser(
         "view", help="result.nc -> one self-contained HTML page: body and garment in 3D"
     )
-    view.add_argument("result", type=Path, help="result.nc from cloth aggregate")
-    view.add_argument("-o", "--output", type=Path, required=True, help="HTML file to write")
+    view.add_argument("result", type=_path, help="result.nc from cloth aggregate")
+    view.add_argument("-o", "--output", type=_path, required=True, help="HTML file to write")
     view.set_defaults(handler=_view)
 
     exp = commands.add_parser("export", help="result.nc -> .ply, .vtu or .csv")
-    exp.add_argument("result", type=Path, help="result.nc from cloth aggregate")
-    exp.add_argument("-o", "--output", type=Path, required=True, help="file: .ply, .vtu, .csv")
+    exp.add_argument("result", type=_path, help="result.nc from cloth aggregate")
+    exp.add_argument("-o", "--output", type=_path, required=True, help="file: .ply, .vtu, .csv")
     exp.add_argument("--field", default="stress_weft", help="field coloured in the PLY")
     exp.set_defaults(handler=_export)
 
     sw = commands.add_parser("sweep", help="results of a sweep -> sweep.nc, sweep.csv, design plot")
     sw.add_argument(
-        "results", nargs="+", type=Path, help="result.nc of each case of the index, in its order"
+        "results", nargs="+", type=_path, help="result.nc of each case of the index, in its order"
     )
     sw.add_argument(
         "--index", required=True,
         help="JSON list of {case, material, body, reduction, and the variant keys}",
     )  # fmt: skip
     sw.add_argument("--targets", default="[]", help="JSON list of design targets (for the plot)")
-    sw.add_argument("-o", "--output", type=Path, required=True, help="sweep.nc to write")
-    sw.add_argument("--csv", type=Path, required=True, help="sweep.csv to write")
-    sw.add_argument("--plot", type=Path, required=True, help="design plot to write")
+    sw.add_argument("-o", "--output", type=_path, required=True, help="sweep.nc to write")
+    sw.add_argument("--csv", type=_path, required=True, help="sweep.csv to write")
+    sw.add_argument("--plot", type=_path, required=True, help="design plot to write")
     sw.add_argument(
-        "--body-plot", type=Path,
+        "--body-plot", type=_path,
         help="small multiples to write: the pressure on the body per body and reduction",
     )  # fmt: skip
     sw.set_defaults(handler=_sweep)
 
     de = commands.add_parser("design", help="sweep.nc -> design.csv: the reduction per target")
-    de.add_argument("sweep", type=Path, help="sweep.nc from cloth sweep")
+    de.add_argument("sweep", type=_path, help="sweep.nc from cloth sweep")
     de.add_argument("--targets", required=True, help="JSON list of {landmark, pressure_mmHg}")
-    de.add_argument("-o", "--output", type=Path, required=True, help="design.csv to write")
+    de.add_argument("-o", "--output", type=_path, required=True, help="design.csv to write")
     de.set_defaults(handler=_design)
 
     co = commands.add_parser("confirm", help="design.csv + confirmation results -> errors")
-    co.add_argument("design", type=Path, help="design.csv from cloth design")
+    co.add_argument("design", type=_path, help="design.csv from cloth design")
     co.add_argument(
-        "results", nargs="*", type=Path,
+        "results", nargs="*", type=_path,
         help="result.nc of each answered target's confirmation case, in design.csv's order",
     )  # fmt: skip
-    co.add_argument("-o", "--output", type=Path, required=True, help="confirmed CSV to write")
+    co.add_argument("-o", "--output", type=_path, required=True, help="confirmed CSV to write")
     co.set_defaults(handler=_confirm)
 
     case = commands.add_parser("case", help="case files: check, write")
@@ -320,12 +339,12 @@ def build_parser() -> argparse.ArgumentParser:
     case_check = case_commands.add_parser(
         "check", help="validate a case file and print it with defaults filled"
     )
-    case_check.add_argument("case", type=Path, help="case YAML file")
+    case_check.add_argument("case", type=_path, help="case YAML file")
     case_check.set_defaults(handler=_case_check)
     case_write = case_commands.add_parser(
         "write", help="validate a case given as JSON and write it as YAML (used by the pipeline)"
     )
     case_write.add_argument("--json", required=True, help="the case as a JSON object")
-    case_write.add_argument("-o", "--output", type=Path, required=True, help="case YAML to write")
+    case_write.add_argument("-o", "--output", type=_path, required=True, help="case YAML to write")
     case_write.set_defaults(handler=_case_write)
     return parser

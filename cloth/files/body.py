@@ -13,6 +13,7 @@ from cloth.bodies.torso import LANDMARKS as TORSO_LANDMARKS
 from cloth.errors import InputError
 from cloth.files.surface import smooth_body
 from cloth.io import resolve, sha256
+from cloth.paths import input_file, path_form
 
 
 def body_from_config(block: dict, base_dir: str | Path = ".") -> tuple[Body, dict]:
@@ -23,7 +24,7 @@ def body_from_config(block: dict, base_dir: str | Path = ".") -> tuple[Body, dic
     """
     ref: dict = {"block": block}
     if "mesh" in block:
-        path = resolve(block["mesh"], base_dir)
+        path = input_file(block["mesh"], base_dir, None, "body.mesh", "mesh file")
         smooth = block.get("surface", "smooth") == "smooth"
         mesh = MeshBody.load(
             path, units=block.get("units", "m"), up=block.get("up", "z"),
@@ -38,13 +39,16 @@ def body_from_config(block: dict, base_dir: str | Path = ".") -> tuple[Body, dic
             )  # fmt: skip
             surface_file = block.get("surface_file")
             if surface_file is not None:
-                surface_file = resolve(surface_file, base_dir)
+                surface_file = resolve(str(path_form(surface_file, None, "body.surface_file")),
+                                       base_dir)  # fmt: skip
             body = smooth_body(mesh, options, surface_file)  # predeform records the fit
         else:
             ref["surface"] = {"kind": "mesh"}
     elif "torso" in block:
         spec = block["torso"]
-        chart_path = resolve(spec["chart"], base_dir) if "chart" in spec else DEFAULT_CHART
+        chart_path = DEFAULT_CHART
+        if "chart" in spec:
+            chart_path = input_file(spec["chart"], base_dir, None, "body.torso.chart", "size chart")
         chart = chart_size(spec["size"], chart_path)
         if spec.get("surface", "smooth") == "smooth":
             body = SmoothTorso(chart)

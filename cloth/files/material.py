@@ -34,6 +34,7 @@ from cloth.errors import InputError
 from cloth.io import global_attrs, read_netcdf, resolve, to_attr, variable
 from cloth.materials.curves import DIRECTIONS, Fabric, StressStrainCurve
 from cloth.materials.labtables import Material, ingest
+from cloth.paths import input_file, path_form
 
 KIND = "material"
 DATA_MATERIALS = Path(__file__).resolve().parents[2] / "data" / "materials"
@@ -163,7 +164,7 @@ __all__ = [
 def load_fabric(spec: str, base_dir: str | Path = ".") -> Fabric:
     """The fabric named by a case's ``material``: a lab table (CSV), a material.nc, or the name
     of a table in ``data/materials`` (e.g. ``powernet``)."""
-    path = resolve(spec, base_dir)
+    path = resolve(str(path_form(spec, None, "material")), base_dir)
     if not path.suffix:
         path = DATA_MATERIALS / f"{spec}.csv"
         if not path.is_file():
@@ -173,6 +174,7 @@ def load_fabric(spec: str, base_dir: str | Path = ".") -> Fabric:
                 f"{', '.join(names)}",
                 field="material",
             )
+    path = input_file(path, base_dir, None, "material", "material file")
     if path.suffix == ".nc":
         return fabric_from_dataset(read_netcdf(path, KIND))
     return ingest([path]).fabric

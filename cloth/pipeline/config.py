@@ -8,6 +8,7 @@ docs/config.md). Errors name the file and the key path, e.g.
 from __future__ import annotations
 
 import copy
+import math
 from functools import cache
 from importlib import resources
 from pathlib import Path
@@ -18,8 +19,49 @@ import yaml
 
 from cloth.case import BODY_KINDS, Case
 from cloth.errors import InputError
+from cloth.paths import shown
 
 MESH_ONLY = ("units", "up", "repair", "surface", "smoothing", "spacing", "surface_file")
+
+
+def _finite_number(checker: Any, instance: Any) -> bool:
+    """JSON Schema's number, finite: YAML's .inf and .nan are not numbers a case can mean."""
+    number = jsonschema.Draft202012Validator.TYPE_CHECKER.is_type(instance, "number")
+    return number and (not isinstance(instance, float) or math.isfinite(instance))
+
+
+#: The case's validator: Draft 2020-12 whose numbers are finite. Where infinity means something,
+#: a schema says so with ``const: .inf`` beside the number (and a description of its meaning).
+Validator = jsonschema.validators.extend(
+    jsonschema.Draft202012Validator,
+    type_checker=jsonschema.Draft202012Validator.TYPE_CHECKER.redefine("number", _finite_number),
+)
+
+
+def schema_message(error: jsonschema.ValidationError) -> str:
+    """A validation error's message in one line, the value shortened, with its fix."""
+    value = error.instance
+    if isinstance(value, float) and not math.isfinite(value):
+        return f"{value} is not a finite number; give a finite value (docs/config.md)"
+    message = error.message
+    if error.validator == "type" and isinstance(value, str) and _number_text(value):
+        return (f"{value!r} is text to YAML, not a number; write it with a dot and a signed "
+                "exponent, e.g. 1.0e+9")  # fmt: skip
+    if isinstance(value, (str, list, dict)) and len(repr(value)) > 80:
+        message = message.replace(repr(value), shown(value))
+    if len(message) > 300:
+        message = f"{message[:200]}... ({len(message)} characters)"
+    if error.validator == "additionalProperties":
+        message += "; check the spelling against docs/config.md"
+    return " ".join(message.split())
+
+
+def _number_text(text: str) -> bool:
+    """Whether ``text`` reads as a number (YAML 1.1 reads 1e9 as text, 1.0e+9 as a number)."""
+    try:
+        return math.isfinite(float(text))
+    except ValueError:
+        return False
 
 
 @cache
@@ -55,14 +97,12 @@ def validate_case(case: Case | dict[str, Any], source: str | Path = "case") -> C
         return case
     if not isinstance(case, dict):
         raise InputError("a case must be a mapping of keys to values", source)
-    validator = jsonschema.Draft202012Validator(case_schema())
-    errors = sorted(validator.iter_errors(case), key=lambda e: (len(e.absolute_path), e.path))
+    errors = sorted(
+        Validator(case_schema()).iter_errors(case),
+        key=lambda e: (len(e.absolute_path), [str(part) for part in e.absolute_path]),
+    )
     if errors:
-        error = errors[0]
-        message = error.message
-        if error.validator == "additionalProperties":
-            message += "; check the spelling against docs/config.md"
-        raise InputError(message, source, _key_path(error))
+        raise InputError(schema_message(errors[0]), source, _key_path(errors[0]))
     case = copy.deepcopy(case)
     body = case["body"]
     kinds = [kind for kind in BODY_KINDS if kind in body]

@@ -17,6 +17,7 @@ the bundled file is used, so that the workflow runs from any working directory.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -24,6 +25,7 @@ from cloth.bodies.torso import DEFAULT_CHART
 from cloth.bodies.torso import LANDMARKS as TORSO_LANDMARKS
 from cloth.case import Case
 from cloth.errors import InputError
+from cloth.paths import input_file
 from cloth.pipeline.config import validate_case
 from cloth.pipeline.variants import Variant, sweep_variants
 
@@ -226,10 +228,55 @@ def check_targets(config: dict) -> None:
             )  # fmt: skip
 
 
+#: Config keys whose numbers may be +infinity, and what it means there (the config schema's
+#: description says so too).
+INFINITE = {("sweep", "tissue_moduli"): "a rigid body"}
+
+
+def check_finite(data: object, path: tuple = ()) -> None:
+    """Refuse (`InputError`) a number in the config that is NaN or infinite, except +infinity
+    where `INFINITE` gives it a meaning: YAML's .nan and .inf pass the config schema."""
+    if isinstance(data, dict):
+        for key, value in data.items():
+            check_finite(value, (*path, str(key)))
+    elif isinstance(data, list):
+        for index, value in enumerate(data):
+            check_finite(value, (*path, str(index)))
+    elif isinstance(data, float) and not math.isfinite(data):
+        if data == math.inf and path[:2] in INFINITE:
+            return
+        raise InputError(f"{data} is not a finite number; give a finite value", "config",
+                         ".".join(path))  # fmt: skip
+
+
+def check_inputs(plan: Plan) -> None:
+    """The user's files the config names exist as files (lab tables, meshes, size charts),
+    checked before any job runs (`cloth.paths.input_file`), where they are looked for
+    (`data_path`)."""
+    config = plan.config
+    for name, block in config["materials"].items():
+        tables = [block["table"]] if isinstance(block["table"], str) else block["table"]
+        for index, table in enumerate(plan.material_tables(name)):
+            field = f"materials.{name}.table" + (f".{index}" if len(tables) > 1 else "")
+            input_file(table, ".", "config", field, "lab table")
+    bodies = {**config.get("bodies", {}),
+              **{f"cases.{n}": c["body"] for n, c in config.get("cases", {}).items()}}  # fmt: skip
+    for name, body in bodies.items():
+        where = name if name.startswith("cases.") else f"bodies.{name}"
+        if "mesh" in body:
+            input_file(data_path(body["mesh"], plan.base), ".", "config", f"{where}.mesh",
+                       "mesh file")  # fmt: skip
+        if "chart" in body.get("torso", {}):
+            input_file(data_path(body["torso"]["chart"], plan.base), ".", "config",
+                       f"{where}.torso.chart", "size chart")  # fmt: skip
+
+
 def make_plan(config: dict, base: str | Path | None = None) -> Plan:
-    """The plan of a (schema-validated) config, every case validated; `InputError` naming the
-    config key on the first problem."""
+    """The plan of a (schema-validated) config, every case validated, every number finite and
+    every input file present; `InputError` naming the config key on the first problem."""
+    check_finite(config)
     plan = Plan(config, base)
+    check_inputs(plan)
     _expand_sweep(plan)
     check_targets(config)
     for name in plan.sweep:

@@ -14,7 +14,7 @@ from dataclasses import replace
 from pathlib import Path
 
 from cloth.case import Case
-from cloth.errors import EXIT_DIVERGED, StageFailed
+from cloth.errors import EXIT_DIVERGED, InputError, StageFailed
 from cloth.figures.plots import plot_garment_3d
 from cloth.files.body import body_from_config, body_from_record
 from cloth.files.material import load_fabric
@@ -53,9 +53,14 @@ def initial_state(case: Case | dict, base_dir: str | Path = ".", source: str = "
     body read from the files it names, relative to ``base_dir``, then
     `cloth.garment.predeform.predeform`."""
     case = validate_case(case, source)
-    fabric = load_fabric(case.material, base_dir)
-    body, record = body_from_config(case.body.block, base_dir)
-    return predeform(case, fabric, body, record, source)
+    try:
+        fabric = load_fabric(case.material, base_dir)
+        body, record = body_from_config(case.body.block, base_dir)
+        return predeform(case, fabric, body, record, source)
+    except InputError as exc:  # what the case names or asks for: the case is where to fix it
+        if exc.source is not None:
+            raise
+        raise InputError(exc.detail, source, exc.field) from None
 
 
 def predeform_file(

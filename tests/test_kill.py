@@ -1,0 +1,98 @@
+"""kill -9 at every stage of ``cloth run``: the folder never holds a half-written file, and a
+rerun completes. (The pipeline's own kill test, a rule killed mid-run, is in test_workflow.)
+
+The kill is exact, not timed: ``cloth run`` runs in a child process whose ``os.replace`` (the
+rename that publishes every file, `cloth.io.atomic_output`) or whose stage function sends it
+SIGKILL, so a stage dies either as it starts or with its output written in full but not yet
+renamed, the worst moment for a file that is not written atomically.
+"""
+
+from __future__ import annotations
+
+import signal
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+import xarray as xr
+import yaml
+
+ROOT = Path(__file__).resolve().parents[1]
+CASE = {
+    "material": "powernet",
+    "body": {"cylinder": {"radius": 0.1, "bottom": 0.0, "top": 0.5}},
+    "garment": {"bottom": 0.1, "top": 0.4, "reduction": 0.2, "grid": [32, 8]},
+}
+#: Runs ``cloth`` and kills itself (SIGKILL) when it renames a file named ``KILL_FILE`` into
+#: place, or when it enters the stage function ``KILL_STAGE`` of cloth.stages.case.
+CHILD = """
+import os, signal, sys
+kind, name = sys.argv[1], sys.argv[2]
+import cloth.stages.case as case
+if kind == "file":
+    real = os.replace
+    def replace(src, dst, *args, **kwargs):
+        if os.path.basename(dst) == name:
+            os.kill(os.getpid(), signal.SIGKILL)
+        return real(src, dst, *args, **kwargs)
+    os.replace = replace
+else:
+    def killed(*args, **kwargs):
+        os.kill(os.getpid(), signal.SIGKILL)
+    setattr(case, name, killed)
+from cloth.cli import main
+sys.exit(main(sys.argv[3:]))
+"""
+#: Each stage of ``cloth run``: the function that does it and a file it writes.
+STAGES = {
+    "predeform": ("initial_state", "initial.nc"),
+    "relax": ("relax_state", "relaxed.nc"),
+    "aggregate": ("write_result", "result.nc"),
+    "figures": ("figures", "stress_weft.png"),
+}
+
+
+def _complete(path: Path) -> None:
+    """``path`` reads in full as the file it claims to be."""
+    if path.suffix == ".nc":
+        with xr.open_dataset(path) as ds:
+            ds.load()
+    elif path.suffix == ".png":
+        data = path.read_bytes()
+        assert data.startswith(b"\x89PNG") and data.rstrip().endswith(b"IEND\xaeB`\x82"), path
+    elif path.suffix == ".csv":
+        lines = path.read_text().splitlines()
+        assert len(lines) >= 2 and all(line.count(",") == lines[0].count(",") for line in lines)
+    elif path.suffix == ".html":
+        assert path.read_text().rstrip().endswith("</html>"), path
+
+
+def _published(folder: Path) -> list[Path]:
+    """The files of ``folder`` a user sees (not the hidden temporary files of a write)."""
+    return [p for p in folder.rglob("*") if p.is_file() and not p.name.startswith(".")]
+
+
+@pytest.mark.parametrize("at", ["start", "rename"])
+@pytest.mark.parametrize("stage", list(STAGES))
+def test_a_run_killed_in_any_stage_leaves_whole_files_and_resumes(tmp_path, stage, at):
+    case = tmp_path / "case.yaml"
+    case.write_text(yaml.safe_dump(CASE))
+    out = tmp_path / "out"
+    function, written = STAGES[stage]
+    kind, name = ("stage", function) if at == "start" else ("file", written)
+    args = ["--log-level", "WARNING", "run", str(case), "-o", str(out), "--base-dir", str(ROOT)]
+    killed = subprocess.run([sys.executable, "-c", CHILD, kind, name, *args],
+                            capture_output=True, text=True, timeout=300)  # fmt: skip
+    assert killed.returncode == -signal.SIGKILL, killed.stderr[-2000:]
+    left = _published(out) if out.exists() else []
+    assert written not in {p.name for p in left}  # the killed stage published nothing
+    for path in left:
+        _complete(path)
+    again = subprocess.run([sys.executable, "-m", "cloth", *args], capture_output=True,
+                           text=True, timeout=300)  # fmt: skip
+    assert again.returncode == 0, again.stderr[-2000:]
+    names = {p.name for p in _published(out)}
+    assert {"initial.nc", "relaxed.nc", "result.nc", "summary.csv", "stress_weft.png"} <= names
+    for path in _published(out):
+        _complete(path)
