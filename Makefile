@@ -15,7 +15,7 @@ OPTIONAL ?=
 export PATH := $(CURDIR)/$(BIN):$(PATH)
 export MPLBACKEND := Agg
 
-.PHONY: run test test-slow test-cluster test-browser test-all lint unit bench clean install
+.PHONY: run test test-slow test-cluster test-browser test-all lint unit bench clean install mutate
 
 install: $(STAMP)
 
@@ -58,6 +58,15 @@ test-browser: $(STAMP)
 
 # everything CI runs
 test-all: test test-slow test-cluster test-browser
+
+# mutation testing of the reporting modules with their tests (pyproject [tool.mutmut]); slow (CI
+# does not run it): the survivors and why each is harmless or which test kills it are in
+# docs/testing.md
+mutate: $(STAMP)
+	$(BIN)/python -m pip install --quiet -e '.[mutate]'
+	rm -rf mutants
+	$(BIN)/mutmut run --max-children 2 || true
+	$(BIN)/mutmut results
 
 bench: $(STAMP)
 	$(BIN)/python -m pip install --quiet -e '.[bench]'

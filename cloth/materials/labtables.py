@@ -33,7 +33,7 @@ from numpy.typing import NDArray
 from cloth.errors import InputError
 from cloth.io import sha256
 from cloth.materials.curves import DIRECTIONS, Fabric, StressStrainCurve
-from cloth.materials.fitting import FitReport, curve_error, fit_monotone
+from cloth.materials.fitting import FitReport, curve_error, fit_monotone, zero_force_strain
 from cloth.materials.labcsv import (
     STRESS_UNITS,
     LabTable,
@@ -189,14 +189,14 @@ def _clean_checks(table: LabTable, strain: NDArray, rows: NDArray[np.bool_]) -> 
 def _set_strain(
     table: LabTable, strain: NDArray, stress: NDArray, rows: NDArray[np.bool_]
 ) -> float | None:
-    """The set of a cyclic table's direction (``rows``): the largest strain at zero force on the
-    unloading branch of its last cycle (None without unloading rows)."""
+    """The set of a cyclic table's direction (``rows``): the strain at which the unloading branch
+    of its last cycle reaches zero force (`cloth.materials.fitting.zero_force_strain`; None
+    without unloading rows)."""
     try:
         unloading = _select(table, IngestOptions(branch="unload"), rows)
     except InputError:
         return None
-    zero = strain[unloading & (stress <= 0.0)]
-    return float(max(np.max(zero), 0.0)) if zero.size else 0.0
+    return zero_force_strain(strain[unloading], stress[unloading])
 
 
 def _curve_from_points(
@@ -204,8 +204,7 @@ def _curve_from_points(
 ) -> tuple[StressStrainCurve, DirectionData]:
     order = np.argsort(strain, kind="stable")
     strain, stress = strain[order], stress[order]
-    zero_load = strain[stress <= 0.0]
-    residual = float(np.max(zero_load)) if zero_load.size and dense else 0.0
+    residual = zero_force_strain(strain, stress) if dense else 0.0
     keep = strain >= 0.0
     strain, stress = strain[keep], stress[keep]
     n_knots = options.n_knots

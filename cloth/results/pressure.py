@@ -16,7 +16,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 
-MMHG = 133.322  # Pa
+#: 1 mmHg in Pa, by its definition: mercury's conventional density 13.5951 g/cm3 x standard
+#: gravity 9.80665 m/s2 x 1 mm = 133.322387415 Pa (rounded to 133.322, a value exactly on a
+#: class edge such as 32 mmHg read as 32.0001 and fell out of its class).
+MMHG = 13.5951e3 * 9.80665 * 1e-3
 #: RAL-GZ 387 medical compression classes, mmHg (class: lower, upper).
 RAL_CLASSES = (("I", 18.0, 21.0), ("II", 23.0, 32.0), ("III", 34.0, 46.0), ("IV", 49.0, np.inf))
 #: Comfort groups of knitted compression garments, kPa.

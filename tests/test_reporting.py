@@ -1,0 +1,175 @@
+"""The numbers a user reads, against values written independently of the code: unit conversions
+from their definitions, compression classes from the standard's table at both sides of every
+band edge, girth-line means from closed forms and from the node fields by hand, design targets
+in kPa and mmHg. Nothing here uses the code's own constants (`cloth.results.pressure.MMHG`, its
+class tables), so a wrong constant fails a test.
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+import xarray as xr
+import yaml
+
+from cloth.files.material import load_fabric
+from cloth.pipeline.sweep import design, target_pa
+from cloth.results.landmarks import Landmark
+from cloth.stages.case import run_case
+
+ROOT = Path(__file__).resolve().parents[1]
+#: 1 mmHg from its definition: mercury's conventional density 13.5951 g/cm3, standard gravity
+#: 9.80665 m/s2, 1 mm: 133.322 Pa.
+PA_PER_MMHG = 13.5951e3 * 9.80665 * 1e-3
+#: RAL-GZ 387 classes, mmHg: class -> pressures just inside it (edges inclusive) ...
+RAL = {"I": (18.0, 20.99), "II": (23.0, 32.0), "III": (34.0, 46.0), "IV": (49.0, 80.0)}
+#: ... and pressures that are in no class (below I, between classes).
+RAL_NONE = (0.0, 17.99, 21.01, 22.99, 32.01, 33.99, 46.01, 48.99)
+#: Comfort groups of knitted garments, kPa, each [lower, upper): group -> pressures inside.
+COMFORT = {"I": (0.4, 1.29), "II": (1.3, 1.99), "III": (2.0, 3.29), "IV": (3.3, 9.0)}
+
+
+def test_one_mmhg_is_its_definition():
+    assert PA_PER_MMHG == pytest.approx(133.322, abs=1e-3)
+    row = Landmark("waist", 1.0, 3, 2666.45, 3000.0, 2000.0, 150.0).record()
+    assert row["pressure_mean_mmHg"] == pytest.approx(2666.45 / PA_PER_MMHG, rel=1e-6)
+    assert row["pressure_max_mmHg"] == pytest.approx(3000.0 / PA_PER_MMHG, rel=1e-6)
+    assert row["pressure_min_mmHg"] == pytest.approx(2000.0 / PA_PER_MMHG, rel=1e-6)
+    assert row["pressure_mean_kPa"] == pytest.approx(2.66645, rel=1e-12)
+
+
+def _summary_row(tmp_path: Path, mmhg: float) -> dict[str, str]:
+    """The summary.csv row of a girth line whose mean pressure is ``mmhg`` mmHg, through the
+    writer users read (cloth.files.result)."""
+    from cloth.files.result import summary_rows, write_summary
+
+    pa = mmhg * PA_PER_MMHG
+    ds = xr.Dataset(
+        {
+            "landmark_height": ("landmark", [1.0]),
+            "pressure_mean": ("landmark", [pa]),
+            "pressure_max": ("landmark", [pa]),
+            "pressure_min": ("landmark", [pa]),
+            "tension_mean": ("landmark", [100.0]),
+        },
+        coords={"landmark": ["waist"]},
+        attrs={"converged": 1},
+    )
+    path = tmp_path / f"summary_{mmhg}.csv"
+    write_summary(summary_rows(ds, "case"), path)
+    with open(path, newline="") as handle:
+        return next(csv.DictReader(handle))
+
+
+@pytest.mark.parametrize(
+    ("mmhg", "expected"),
+    [(p, name) for name, pair in RAL.items() for p in pair] + [(p, "-") for p in RAL_NONE],
+)
+def test_the_summary_gives_the_ral_class_of_the_mean_in_mmhg(tmp_path, mmhg, expected):
+    row = _summary_row(tmp_path, mmhg)
+    assert row["ral_gz_387_class"] == expected
+    assert float(row["pressure_mean_mmHg"]) == pytest.approx(mmhg, abs=1e-4)
+    assert float(row["pressure_mean_Pa"]) == pytest.approx(mmhg * 133.322, rel=1e-5)
+
+
+@pytest.mark.parametrize(
+    ("kpa", "expected"),
+    [(p, name) for name, pair in COMFORT.items() for p in pair] + [(0.0, "-"), (0.39, "-")],
+)
+def test_the_summary_gives_the_comfort_group_of_the_mean_in_kpa(tmp_path, kpa, expected):
+    row = _summary_row(tmp_path, kpa * 1000 / PA_PER_MMHG)
+    assert row["comfort_group"] == expected
+    assert float(row["pressure_mean_kPa"]) == pytest.approx(kpa, rel=1e-5)
+
+
+def _run(tmp_path: Path, body: dict, garment: dict, landmarks: dict) -> Path:
+    case = {"material": "powernet", "body": body, "garment": garment, "landmarks": landmarks}
+    path = tmp_path / "case.yaml"
+    path.write_text(yaml.safe_dump(case))
+    run_case(path, tmp_path / "out", {}, ROOT, stop_after="aggregate")
+    return tmp_path / "out"
+
+
+def test_girth_line_pressures_on_an_ellipse_are_laplace_along_its_curvature(tmp_path):
+    """A frictionless tube on an elliptic cylinder carries one hoop tension T all round; its
+    pressure is T kappa, so along a girth line the mean is T 2 pi / L (the curvature of a closed
+    convex curve integrates to 2 pi over its perimeter L), the largest T a / b^2 and the least
+    T b / a^2. T is the lab curve's stress at the hoop strain 1 / (1 - reduction) - 1 times the
+    thickness."""
+    a, b, reduction = 0.12, 0.08, 0.15
+    out = _run(
+        tmp_path,
+        {"elliptic_cylinder": {"a": a, "b": b, "bottom": 0.0, "top": 0.5}},
+        {"bottom": 0.1, "top": 0.4, "reduction": reduction, "grid": [192, 7]},
+        {"line": 0.25},
+    )
+    fabric = load_fabric("powernet", ROOT)
+    strain = 1.0 / (1.0 - reduction) - 1.0
+    tension = float(fabric.weft(np.array([strain]))[0]) * fabric.thickness  # N/m
+    h = ((a - b) / (a + b)) ** 2
+    perimeter = math.pi * (a + b) * (1 + 3 * h / (10 + math.sqrt(4 - 3 * h)))  # Ramanujan
+    with open(out / "summary.csv", newline="") as handle:
+        row = next(csv.DictReader(handle))
+    assert float(row["tension_weft_mean_N_per_m"]) == pytest.approx(tension, rel=5e-3)
+    assert float(row["pressure_mean_Pa"]) == pytest.approx(2 * math.pi * tension / perimeter,
+                                                           rel=1e-2)  # fmt: skip
+    assert float(row["pressure_max_Pa"]) == pytest.approx(tension * a / b**2, rel=2e-2)
+    assert float(row["pressure_min_Pa"]) == pytest.approx(tension * b / a**2, rel=2e-2)
+
+
+def test_girth_line_means_are_the_mean_of_their_row_by_hand(tmp_path):
+    """On a cone (every row its own radius, so its own pressure) each girth line reports the
+    row nearest its height: the mean, max and min of that row's node pressures."""
+    heights = {"low": 0.13, "mid": 0.24, "high": 0.37}
+    out = _run(
+        tmp_path,
+        {"cone": {"radius_bottom": 0.13, "radius_top": 0.09, "bottom": 0.0, "top": 0.5}},
+        {"bottom": 0.1, "top": 0.4, "reduction": 0.15, "grid": [48, 12]},
+        heights,
+    )
+    with xr.open_dataset(out / "result.nc") as ds:
+        z, pressure = ds["z"].values, ds["pressure"].values  # (rows, cols)
+        contact = ds["contact"].values.astype(bool)
+        summary = {str(n): i for i, n in enumerate(ds["landmark"].values)}
+        means = ds["pressure_mean"].values
+        highest, lowest = ds["pressure_max"].values, ds["pressure_min"].values
+    rows_z = z.mean(axis=1)
+    seen = []
+    for name, height in heights.items():
+        row = int(np.argmin(np.abs(rows_z - height)))
+        on = np.where(contact[row], pressure[row], 0.0)
+        i = summary[name]
+        assert means[i] == pytest.approx(on.sum() / on.size, rel=1e-12)
+        assert highest[i] == pytest.approx(on.max(), rel=1e-12)
+        assert lowest[i] == pytest.approx(on.min(), rel=1e-12)
+        seen.append(means[i])
+    assert len({round(v, 3) for v in seen}) == 3  # the rows differ: the right one is read
+
+
+def _sweep(pressures_pa: list[float]) -> xr.Dataset:
+    reductions = [0.1, 0.15, 0.2, 0.25]
+    data = np.array(pressures_pa, float).reshape(1, 1, 4, 1)
+    return xr.Dataset(
+        {"pressure_mean": (("material", "body", "reduction", "landmark"), data)},
+        coords={"material": ["m"], "body": ["b"], "reduction": reductions, "landmark": ["waist"]},
+    )
+
+
+def test_design_targets_in_kpa_and_in_mmhg_give_the_same_reduction():
+    """A target of 2 kPa and one of 2000 / 133.322 mmHg are the same pressure: the same
+    reduction, read off the sweep by hand (2000 Pa lies halfway between 1500 and 2500 Pa)."""
+    ds = _sweep([1000.0, 1500.0, 2500.0, 3500.0])
+    kpa = design(ds, [{"landmark": "waist", "pressure_kPa": 2.0}])[0]
+    mmhg = design(ds, [{"landmark": "waist", "pressure_mmHg": 2000.0 / PA_PER_MMHG}])[0]
+    assert kpa["status"] == mmhg["status"] == "ok"
+    assert kpa["reduction"] == pytest.approx(0.175, abs=1e-9)
+    assert mmhg["reduction"] == pytest.approx(0.175, abs=1e-6)
+    assert kpa["target_Pa"] == pytest.approx(2000.0) and kpa["target_mmHg"] == pytest.approx(
+        2000.0 / PA_PER_MMHG, rel=1e-6
+    )
+    assert target_pa({"pressure_kPa": 3.5}) == pytest.approx(3500.0)
+    assert target_pa({"pressure_mmHg": 20}) == pytest.approx(20 * PA_PER_MMHG, rel=1e-6)
