@@ -10,15 +10,18 @@ from __future__ import annotations
 import csv
 import math
 from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
 import xarray as xr
 import yaml
 
+from cloth.errors import InputError
 from cloth.files.material import load_fabric
 from cloth.pipeline.sweep import design, target_pa
-from cloth.results.landmarks import Landmark
+from cloth.results.landmarks import Landmark, landmarks, nearest_row
+from cloth.results.pressure import contact_reaction
 from cloth.stages.case import run_case
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -119,6 +122,12 @@ def test_girth_line_pressures_on_an_ellipse_are_laplace_along_its_curvature(tmp_
                                                            rel=1e-2)  # fmt: skip
     assert float(row["pressure_max_Pa"]) == pytest.approx(tension * a / b**2, rel=2e-2)
     assert float(row["pressure_min_Pa"]) == pytest.approx(tension * b / a**2, rel=2e-2)
+    with xr.open_dataset(out / "result.nc") as ds:  # the per-node mmHg users map
+        np.testing.assert_allclose(ds["pressure_mmHg"], ds["pressure"] / 133.322387, rtol=1e-8)
+        assert (
+            ds["pressure_mmHg"].attrs["units"] == "mmHg" and ds["pressure"].attrs["units"] == "Pa"
+        )
+        assert ds["tension_mean"].attrs["units"] == "N m-1"
 
 
 def test_girth_line_means_are_the_mean_of_their_row_by_hand(tmp_path):
@@ -173,3 +182,64 @@ def test_design_targets_in_kpa_and_in_mmhg_give_the_same_reduction():
     )
     assert target_pa({"pressure_kPa": 3.5}) == pytest.approx(3500.0)
     assert target_pa({"pressure_mmHg": 20}) == pytest.approx(20 * PA_PER_MMHG, rel=1e-6)
+
+
+def test_a_design_row_says_what_it_found_in_its_own_words():
+    """ok at the sweep's ends too; two finite points are enough; outside, the range in mmHg by
+    hand (1000-3500 Pa is 7.50-26.3 mmHg); one point is no data; an unknown line is refused."""
+    ds = _sweep([1000.0, 1500.0, 2500.0, 3500.0])
+    for pa, reduction in ((1000.0, 0.1), (3500.0, 0.25)):
+        row = design(ds, [{"landmark": "waist", "pressure_kPa": pa / 1000}])[0]
+        assert (row["status"], row["message"]) == ("ok", "")
+        assert row["reduction"] == pytest.approx(reduction)
+    assert set(row) == {"material", "body", "landmark", "target_Pa", "target_mmHg",
+                        "reduction", "status", "message"}  # fmt: skip
+    assert (row["material"], row["body"], row["landmark"]) == ("m", "b", "waist")
+    two = design(_sweep([math.nan, 1500.0, 2500.0, math.nan]), [
+        {"landmark": "waist", "pressure_kPa": 2.0}])[0]  # fmt: skip
+    assert two["status"] == "ok" and two["reduction"] == pytest.approx(0.175)
+    high = design(ds, [{"landmark": "waist", "pressure_kPa": 5.0}])[0]
+    assert high["status"] == "out_of_range" and math.isnan(high["reduction"])
+    assert "reaches 37.5 mmHg at the waist" in high["message"]
+    assert "the sweep gives 7.5-26.3 mmHg" in high["message"]
+    one = design(_sweep([math.nan, 1500.0, math.nan, math.nan]), [
+        {"landmark": "waist", "pressure_kPa": 2.0}])[0]  # fmt: skip
+    assert one["status"] == "no_data" and one["message"] == "fewer than two swept reductions"
+    with pytest.raises(InputError) as error:
+        design(ds, [{"landmark": "hip", "pressure_kPa": 2.0}])
+    assert error.value.field == "targets" and "the sweep has waist" in str(error.value)
+
+
+class _Fields:
+    """Node fields of a 4 x 3 grid (rows at 0.1, 0.2, 0.3 m): pressure (Pa) 100 x row + node,
+    the last node of each row off the body."""
+
+    def __init__(self) -> None:
+        self.pressure = np.array([100.0 * r + i for r in range(3) for i in range(4)])
+        self.on_body = np.array([1, 1, 1, 0] * 3, np.int8)
+        self.tension_weft = np.full(12, 50.0)
+
+
+def test_girth_lines_read_their_nearest_row_bottom_to_top_and_count_the_off_body_as_zero():
+    grid = SimpleNamespace(m=3, n=4)
+    x = np.array([[0.0, 0.0, z] for z in (0.1, 0.2, 0.3) for _ in range(4)])
+    heights = {"bust": 0.34, "below": 0.04, "waist": 0.21, "hip": 0.05, "above": 0.36}
+    marks = landmarks(heights, x, _Fields(), grid)
+    assert [m.name for m in marks] == ["hip", "waist", "bust"]  # by height; half a row out
+    assert [m.row for m in marks] == [0, 1, 2]
+    mid = marks[1]  # the waist
+    assert (mid.mean, mid.max, mid.min) == ((100 + 101 + 102 + 0) / 4, 102.0, 0.0)
+    assert mid.tension == 50.0 and mid.height == 0.21
+    row = mid.record()
+    assert row["height_m"] == 0.21 and row["landmark"] == "waist" and row["row"] == 1
+    assert nearest_row(np.array([0.2]), 0.2) == 0 and nearest_row(np.array([0.2]), 0.2001) is None
+    assert nearest_row(np.array([0.1, 0.2]), 0.24) == 1  # two rows: half a spacing beyond
+
+
+def test_the_bodys_reaction_balances_what_the_springs_leave_on_a_held_node():
+    """A held node pulled inward by 5 N of springs with 1 N of it left unbalanced (the part the
+    body does not carry) gets 4 N outward from the body; a free node gets none."""
+    forces = np.array([[0.0, 0.0, -5.0], [1.0, 0.0, 0.0]])
+    unbalanced = np.array([[0.0, 0.0, -1.0], [1.0, 0.0, 0.0]])
+    reaction = contact_reaction(forces, unbalanced, np.array([True, False]))
+    np.testing.assert_array_equal(reaction, [[0.0, 0.0, 4.0], [0.0, 0.0, 0.0]])
