@@ -130,9 +130,10 @@ def test_girth_line_pressures_on_an_ellipse_are_laplace_along_its_curvature(tmp_
         assert ds["tension_mean"].attrs["units"] == "N m-1"
 
 
-def test_girth_line_means_are_the_mean_of_their_row_by_hand(tmp_path):
+def test_girth_line_values_are_the_rows_interpolated_to_its_height_by_hand(tmp_path):
     """On a cone (every row its own radius, so its own pressure) each girth line reports the
-    row nearest its height: the mean, max and min of that row's node pressures."""
+    node pressures interpolated linearly in height between the rows around it, column by column
+    (here by numpy's interp along each warp line): their mean, max and min."""
     heights = {"low": 0.13, "mid": 0.24, "high": 0.37}
     out = _run(
         tmp_path,
@@ -147,16 +148,16 @@ def test_girth_line_means_are_the_mean_of_their_row_by_hand(tmp_path):
         means = ds["pressure_mean"].values
         highest, lowest = ds["pressure_max"].values, ds["pressure_min"].values
     rows_z = z.mean(axis=1)
+    on = np.where(contact, pressure, 0.0)
     seen = []
     for name, height in heights.items():
-        row = int(np.argmin(np.abs(rows_z - height)))
-        on = np.where(contact[row], pressure[row], 0.0)
+        line = np.array([np.interp(height, rows_z, on[:, i]) for i in range(on.shape[1])])
         i = summary[name]
-        assert means[i] == pytest.approx(on.sum() / on.size, rel=1e-12)
-        assert highest[i] == pytest.approx(on.max(), rel=1e-12)
-        assert lowest[i] == pytest.approx(on.min(), rel=1e-12)
+        assert means[i] == pytest.approx(line.mean(), rel=1e-12)
+        assert highest[i] == pytest.approx(line.max(), rel=1e-12)
+        assert lowest[i] == pytest.approx(line.min(), rel=1e-12)
         seen.append(means[i])
-    assert len({round(v, 3) for v in seen}) == 3  # the rows differ: the right one is read
+    assert len({round(v, 3) for v in seen}) == 3  # the rows differ: the right ones are read
 
 
 def _sweep(pressures_pa: list[float]) -> xr.Dataset:
@@ -228,7 +229,8 @@ def test_girth_lines_read_their_nearest_row_bottom_to_top_and_count_the_off_body
     assert [m.name for m in marks] == ["hip", "waist", "bust"]  # by height; half a row out
     assert [m.row for m in marks] == [0, 1, 2]
     mid = marks[1]  # the waist
-    assert (mid.mean, mid.max, mid.min) == ((100 + 101 + 102 + 0) / 4, 102.0, 0.0)
+    # 0.21 m: a tenth of the way from the row at 0.2 m to the one at 0.3 m, column by column
+    assert (mid.mean, mid.max, mid.min) == pytest.approx(((110 + 111 + 112 + 0) / 4, 112, 0))
     assert mid.tension == 50.0 and mid.height == 0.21
     row = mid.record()
     assert row["height_m"] == 0.21 and row["landmark"] == "waist" and row["row"] == 1

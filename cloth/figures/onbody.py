@@ -119,8 +119,9 @@ def visible_quads(ds: xr.Dataset, variable: str, scale: float, azimuth: float):
 
 
 def _girth_rows(ds: xr.Dataset) -> list[tuple[str, int, int]]:
-    """(landmark, its row, its index in the landmark dim) of every landmark on the garment (the
-    row the summary took, `cloth.results.landmarks.nearest_row`)."""
+    """(landmark, its row, its index in the landmark dim) of every landmark on the garment: the
+    row nearest the line, where it is drawn (its values are the summary's, taken at the line's
+    height: `cloth.results.landmarks.girth_line`)."""
     heights = ds["z"].values.mean(axis=1)
     rows = []
     for index, name in enumerate(ds["landmark"].values.tolist()):

@@ -8,7 +8,7 @@ from pathlib import Path
 import matplotlib
 
 from cloth.bodies import MeshBody
-from cloth.results.landmarks import nearest_row
+from cloth.results.landmarks import along, girth_line
 from cloth.results.pressure import RAL_CLASSES
 
 matplotlib.use("Agg")
@@ -245,12 +245,13 @@ def plot_result(
     fig, ax = plt.subplots(figsize=(6.4, 4.0), layout="constrained")
     angle = np.linspace(0, 360, n, endpoint=False)
     for index, name in enumerate(ds["landmark"].values.tolist()):
-        row = nearest_row(ds["z"].values.mean(axis=1), float(ds["landmark_height"][index]))
-        if row is None:  # every landmark a result holds is on its garment; kept for safety
+        line = girth_line(ds["z"].values.mean(axis=1), float(ds["landmark_height"][index]))
+        if line is None:  # every landmark a result holds is on its garment; kept for safety
             continue
+        on = ds["contact"].values.astype(bool)
         ax.plot(
             angle,
-            ds["pressure_mmHg"].values[row],
+            along(np.where(on, ds["pressure_mmHg"].values, 0.0), line),  # what the summary took
             label=f"{name} ({float(ds['landmark_height'][index]):.3f} m)",
         )
     for name, lo, hi in RAL_CLASSES[:3]:

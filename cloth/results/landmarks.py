@@ -3,9 +3,15 @@
 A landmark is a height on the body: the parametric torso's `cloth.bodies.torso.LANDMARKS` from its size
 chart, heights given in a case's ``landmarks``, or for other bodies the rows where the hull
 girth has an interior minimum or maximum (`girth_extrema`: ``girth_min_N``, ``girth_max_N``),
-else the ``middle`` row. Its summary (`Landmark`) is taken along the grid row nearest it: mean,
-max and min pressure (Pa; with mmHg, the RAL-GZ 387 class and the comfort group) and the mean
-weft tension (N m-1). `LANDMARK_FIELDS` names the summaries in result.nc and sweep.nc.
+else the ``middle`` row. Its summary (`Landmark`) is taken along the girth line at its height
+(`girth_line`): each node quantity is interpolated linearly in height between the two rows
+around the line, column by column (along the warp lines), and the mean, max and min pressure
+(Pa; with mmHg, the RAL-GZ 387 class and the comfort group) and the mean weft tension (N m-1)
+are those of the interpolated values. A line at or beyond an edge row (within half a row
+spacing) takes that row, whose nodes are held by the edge: the edge row keeps its own values.
+So a line's value moves smoothly with the grid, where the nearest row would jump from row to row
+(issue 29: the waist's steps of 46, 27 and 3 Pa over four grids). `LANDMARK_FIELDS` names the
+summaries in result.nc and sweep.nc.
 """
 
 from __future__ import annotations
@@ -81,29 +87,55 @@ def nearest_row(rows_z: NDArray[np.float64], height: float) -> int | None:
     return int(np.argmin(np.abs(rows_z - height)))
 
 
+def girth_line(rows_z: NDArray[np.float64], height: float) -> tuple[int, int, float] | None:
+    """Where the girth line at ``height`` (m) lies on a grid whose rows have the mean heights
+    ``rows_z`` ((m,), m, bottom to top): the row below, the row above and the weight t of the
+    upper, so that a node quantity q along the line is (1 - t) q[below] + t q[above], column by
+    column (`along`). At or beyond an edge row (within `nearest_row`'s reach) the line is that
+    row: (j, j, 0). None beyond the garment."""
+    nearest = nearest_row(rows_z, height)
+    if nearest is None:
+        return None
+    if height <= rows_z[0] or height >= rows_z[-1]:
+        edge = 0 if height <= rows_z[0] else len(rows_z) - 1
+        return edge, edge, 0.0
+    above = int(np.searchsorted(rows_z, height, side="right"))
+    below = above - 1
+    if not (0 <= below < above < len(rows_z)) or rows_z[above] <= rows_z[below]:
+        return nearest, nearest, 0.0  # rows out of height order: the nearest row
+    return below, above, float((height - rows_z[below]) / (rows_z[above] - rows_z[below]))
+
+
+def along(values: NDArray[np.float64], line: tuple[int, int, float]) -> NDArray[np.float64]:
+    """A node quantity ((m, n): rows x columns) along a girth line (`girth_line`): (n,)."""
+    below, above, t = line
+    return (1.0 - t) * values[below] + t * values[above]
+
+
 def landmarks(
     heights: dict[str, float], x: NDArray[np.float64], fields: NodeFields, grid: Grid
 ) -> list[Landmark]:
-    """Pressure and tension summaries along the grid rows nearest each landmark height."""
+    """Pressure and tension summaries along the girth line at each landmark height
+    (module docstring), bottom to top; a node off the body presses with 0 Pa."""
     rows_z = x.reshape(grid.m, grid.n, 3)[..., 2].mean(axis=1)
-    pressure = fields.pressure.reshape(grid.m, grid.n)
     contact = fields.on_body.reshape(grid.m, grid.n).astype(bool)
+    pressure = np.where(contact, fields.pressure.reshape(grid.m, grid.n), 0.0)
     tension = fields.tension_weft.reshape(grid.m, grid.n)
     out = []
     for name, height in sorted(heights.items(), key=lambda item: item[1]):
-        row = nearest_row(rows_z, height)
-        if row is None:
+        line = girth_line(rows_z, height)
+        if line is None:
             continue
-        values = np.where(contact[row], pressure[row], 0.0)
+        values = along(pressure, line)
         out.append(
             Landmark(
                 name,
                 float(height),
-                row,
+                nearest_row(rows_z, height),
                 float(values.mean()),
                 float(values.max()),
                 float(values.min()),
-                float(np.nanmean(tension[row])),
+                float(np.nanmean(along(tension, line))),
             )
         )
     return out
