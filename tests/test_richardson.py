@@ -1,0 +1,78 @@
+"""Richardson's estimate of a reported value's distance from the converged garment: exact on a
+known power law, right on a cylinder whose continuum answer is Laplace's p = T / r, and silent
+(no error number) where the levels do not show an order."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from cloth.files.body import body_from_config
+from cloth.files.material import load_fabric
+from cloth.garment.predeform import predeform
+from cloth.pipeline.config import validate_case
+from cloth.results.fields import node_fields
+from cloth.results.richardson import richardson
+from cloth.solvers import Settings, relax
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+@pytest.mark.parametrize("order", [1.0, 2.0, 3.0])
+def test_a_power_law_gives_its_order_and_its_limit(order):
+    f = [10.0 + 3.0 * h**order for h in (0.25, 0.5, 1.0)]  # fine, middle, coarse
+    estimate = richardson(*f)
+    assert estimate.observed and estimate.order == pytest.approx(order, abs=1e-12)
+    assert estimate.extrapolated == pytest.approx(10.0, abs=1e-12)
+    assert estimate.error == pytest.approx(10.0 - f[0], abs=1e-12)
+    assert estimate.relative_error == pytest.approx(abs(10.0 - f[0]) / 10.0)
+
+
+def _cylinder_pressure(n: int, radius: float, reduction: float) -> float:
+    """Mean pressure (Pa) of the interior rows of a tube of n nodes around on a cylinder."""
+    case = validate_case({
+        "material": "powernet", "body": {"cylinder": {"radius": radius}},
+        "garment": {"bottom": 0.1, "top": 0.4, "reduction": reduction, "grid": [n, 4]},
+    })  # fmt: skip
+    body, record = body_from_config(case.body.block)
+    state = predeform(case, load_fabric("powernet", ROOT), body, record)
+    final = relax(state, body, Settings(method="newton")).final
+    fields = node_fields(
+        state.grid, final.x, final.springs, state.fabric.thickness, final.forces,
+        final.unbalanced, final.on_body, final.normal, state.constraint,
+    )  # fmt: skip
+    return float(fields.pressure.reshape(4, n)[1:-1].mean())
+
+
+def test_on_a_cylinder_the_estimate_is_the_true_error_and_the_order_is_two():
+    """The tube's nodes lie on the circle, a polygon of n sides whose strain differs from the
+    continuum's by O(1/n^2): the scheme is second order. Three levels (24, 48, 96 around)
+    observe it, and the estimated error of the 96-node value is its true error, T / r - p."""
+    radius, reduction = 0.1, 0.2
+    fabric = load_fabric("powernet", ROOT)
+    strain = 1.0 / (1.0 - reduction) - 1.0
+    exact = float(fabric.weft(np.array([strain]))[0]) * fabric.thickness / radius
+    fine, middle, coarse = (_cylinder_pressure(n, radius, reduction) for n in (96, 48, 24))
+    estimate = richardson(fine, middle, coarse)
+    assert estimate.observed and estimate.order == pytest.approx(2.0, abs=0.05)
+    assert estimate.error == pytest.approx(exact - fine, rel=0.05)
+    assert estimate.extrapolated == pytest.approx(exact, rel=1e-4)
+
+
+@pytest.mark.parametrize(
+    ("levels", "reason"),
+    [
+        ((2379.0, 2370.0, 2376.0), "monotonically"),  # the waist's old nearest-row sequence
+        ((2379.0, 2379.0, 2370.0), "same value"),
+        ((100.0, 100.001, 110.0), "outside"),  # order 13: not asymptotic
+        ((100.0, math.nan, 110.0), "finite"),
+    ],
+)
+def test_levels_that_show_no_order_give_no_error_number(levels, reason):
+    estimate = richardson(*levels)
+    assert not estimate.observed and reason in estimate.reason
+    assert math.isnan(estimate.error) and math.isnan(estimate.extrapolated)
+    assert math.isnan(estimate.relative_error)
