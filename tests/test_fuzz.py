@@ -184,3 +184,15 @@ def test_a_case_path_is_checked_as_a_path(tmp_path, body, field, says):
     code, err = run_cloth("run", str(tmp_path / "case.yaml"), "-o", str(tmp_path / "out"),
                           "--base-dir", str(ROOT))  # fmt: skip
     assert code == 2 and field in err and says in err and not (tmp_path / "out").exists()
+
+
+def test_a_material_table_beside_a_case_in_a_relative_folder_is_found(tmp_path, monkeypatch):
+    """A case in ``cases/`` naming ``my.csv`` reads ``cases/my.csv`` (relative to the case's
+    folder, once), also when that folder is given relative to the working directory."""
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "cases").mkdir()
+    (tmp_path / "cases" / "my.csv").write_text(TABLE)
+    (tmp_path / "cases" / "case.yaml").write_text(yaml.safe_dump({**TINY, "material": "my.csv"}))
+    code, err = run_cloth("run", "cases/case.yaml", "-o", "out", "--stop-after", "predeform")
+    assert code == 0, err
+    assert (tmp_path / "out" / "initial.nc").is_file()

@@ -174,7 +174,7 @@ def load_fabric(spec: str, base_dir: str | Path = ".") -> Fabric:
                 f"{', '.join(names)}",
                 field="material",
             )
-    path = input_file(path, base_dir, None, "material", "material file")
+    path = input_file(path, ".", None, "material", "material file")  # resolved above
     if path.suffix == ".nc":
         return fabric_from_dataset(read_netcdf(path, KIND))
     return ingest([path]).fabric
