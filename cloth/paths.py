@@ -22,7 +22,7 @@ SHOWN = 240
 
 def shown(value: object) -> str:
     """``value`` as a message shows it: its repr, shortened past `SHOWN` characters."""
-    text = repr(str(value)) if not isinstance(value, str) else repr(value)
+    text = repr(str(value))
     if len(text) <= SHOWN:
         return text
     return f"{text[: SHOWN // 2]}...{text[-SHOWN // 4 :]} ({len(str(value))} characters)"

@@ -137,9 +137,6 @@ class Case:
     def __eq__(self, other: object) -> bool:
         return isinstance(other, Case) and self._data == other._data
 
-    def __hash__(self) -> int:
-        return hash(repr(sorted(self._data.items(), key=lambda item: item[0])))
-
     @classmethod
     def from_dict(cls, data: Mapping[str, Any], source: str = "case") -> Case:
         """The typed case of a validated mapping (`cloth.pipeline.config.validate_case`);

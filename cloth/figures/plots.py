@@ -244,11 +244,11 @@ def plot_result(
         )  # fmt: skip
     fig, ax = plt.subplots(figsize=(6.4, 4.0), layout="constrained")
     angle = np.linspace(0, 360, n, endpoint=False)
+    on = ds["contact"].values.astype(bool)
     for index, name in enumerate(ds["landmark"].values.tolist()):
         line = girth_line(ds["z"].values.mean(axis=1), float(ds["landmark_height"][index]))
         if line is None:  # every landmark a result holds is on its garment; kept for safety
             continue
-        on = ds["contact"].values.astype(bool)
         ax.plot(
             angle,
             along(np.where(on, ds["pressure_mmHg"].values, 0.0), line),  # what the summary took

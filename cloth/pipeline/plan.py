@@ -255,9 +255,9 @@ def check_inputs(plan: Plan) -> None:
     (`data_path`)."""
     config = plan.config
     for name, block in config["materials"].items():
-        tables = [block["table"]] if isinstance(block["table"], str) else block["table"]
+        several = not isinstance(block["table"], str)
         for index, table in enumerate(plan.material_tables(name)):
-            field = f"materials.{name}.table" + (f".{index}" if len(tables) > 1 else "")
+            field = f"materials.{name}.table" + (f".{index}" if several else "")
             input_file(table, ".", "config", field, "lab table")
     bodies = {**config.get("bodies", {}),
               **{f"cases.{n}": c["body"] for n, c in config.get("cases", {}).items()}}  # fmt: skip

@@ -231,12 +231,12 @@ def confirm(
     """The confirmed pressure of every answered target (``results``: the result.nc of each
     answered row's confirmation case, in the rows' order), and its error against the target."""
     answered = [row for row in design_rows if row["status"] == "ok"]
-    paths = {id(row): path for row, path in _pair(answered, results, "answered target")}
+    paths = iter(path for _, path in _pair(answered, results, "answered target"))
     out = []
     for row in design_rows:
         record: dict[str, object] = dict(row)
         if row["status"] == "ok":
-            ds = read_netcdf(paths[id(row)], "result", ("pressure_mean",))
+            ds = read_netcdf(next(paths), "result", ("pressure_mean",))
             confirmed = float(ds["pressure_mean"].sel(landmark=row["landmark"]))
             goal = float(row["target_Pa"])
             record.update(
