@@ -169,6 +169,27 @@ def _sweep(pressures_pa: list[float]) -> xr.Dataset:
     )
 
 
+def test_the_design_interval_is_the_stated_pressure_error_over_the_slope():
+    """2000 Pa lies a quarter of the way from 1500 Pa (r 0.15, stated error 40 Pa) to 3500 Pa
+    (r 0.25, 80 Pa): the error there is 50 Pa, the slope 20000 Pa per unit reduction, so the
+    answer 0.175 holds to +- 0.0025; a case without an estimate gives no interval."""
+    ds = xr.Dataset(
+        {"pressure_mean": (("material", "body", "reduction", "landmark"),
+                           np.array([1000.0, 1500.0, 3500.0]).reshape(1, 1, 3, 1)),
+         "pressure_mean_error": (("material", "body", "reduction", "landmark"),
+                                 np.array([30.0, 40.0, 80.0]).reshape(1, 1, 3, 1))},
+        coords={"material": ["m"], "body": ["b"], "reduction": [0.1, 0.15, 0.25],
+                "landmark": ["waist"]},
+    )  # fmt: skip
+    row = design(ds, [{"landmark": "waist", "pressure_kPa": 2.0}])[0]
+    assert row["reduction"] == pytest.approx(0.175)
+    assert row["reduction_error"] == pytest.approx(0.0025)
+    assert (row["reduction_low"], row["reduction_high"]) == pytest.approx((0.1725, 0.1775))
+    ds["pressure_mean_error"][0, 0, 2, 0] = np.nan
+    row = design(ds, [{"landmark": "waist", "pressure_kPa": 2.0}])[0]
+    assert math.isnan(row["reduction_error"])
+
+
 def test_design_targets_in_kpa_and_in_mmhg_give_the_same_reduction():
     """A target of 2 kPa and one of 2000 / 133.322 mmHg are the same pressure: the same
     reduction, read off the sweep by hand (2000 Pa lies halfway between 1500 and 2500 Pa)."""
@@ -194,7 +215,8 @@ def test_a_design_row_says_what_it_found_in_its_own_words():
         assert (row["status"], row["message"]) == ("ok", "")
         assert row["reduction"] == pytest.approx(reduction)
     assert set(row) == {"material", "body", "landmark", "target_Pa", "target_mmHg",
-                        "reduction", "status", "message"}  # fmt: skip
+                        "reduction", "reduction_error", "reduction_low", "reduction_high",
+                        "status", "message"}  # fmt: skip
     assert (row["material"], row["body"], row["landmark"]) == ("m", "b", "waist")
     two = design(_sweep([math.nan, 1500.0, 2500.0, math.nan]), [
         {"landmark": "waist", "pressure_kPa": 2.0}])[0]  # fmt: skip

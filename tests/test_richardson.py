@@ -15,7 +15,7 @@ from cloth.files.material import load_fabric
 from cloth.garment.predeform import predeform
 from cloth.pipeline.config import validate_case
 from cloth.results.fields import node_fields
-from cloth.results.richardson import richardson
+from cloth.results.richardson import estimate_levels, grid_spacing, richardson
 from cloth.solvers import Settings, relax
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -28,7 +28,24 @@ def test_a_power_law_gives_its_order_and_its_limit(order):
     assert estimate.observed and estimate.order == pytest.approx(order, abs=1e-12)
     assert estimate.extrapolated == pytest.approx(10.0, abs=1e-12)
     assert estimate.error == pytest.approx(10.0 - f[0], abs=1e-12)
-    assert estimate.relative_error == pytest.approx(abs(10.0 - f[0]) / 10.0)
+    safety = 1.25 if order == 2.0 else 3.0  # the scheme's order confirmed, or not
+    assert estimate.uncertainty == pytest.approx(safety * abs(10.0 - f[0]), rel=1e-12)
+    assert estimate.relative_error == pytest.approx(safety * abs(10.0 - f[0]) / f[0])
+
+
+@pytest.mark.parametrize("order", [0.8, 1.5, 2.0, 3.5])
+def test_unequal_ratios_give_the_order_and_the_limit_of_a_power_law(order):
+    """Grids halved with rounding (48 x 24 -> 24 x 12 -> 12 x 6) are not exactly twice as coarse:
+    the spacings of `grid_spacing` give ratios 2.045 and 2.098, and a value f* + C h^p on them
+    gives back p and f* exactly."""
+    grids = [(48, 24), (24, 12), (12, 6)]
+    h = [grid_spacing(n, m) for n, m in grids]
+    assert h[1] / h[0] == pytest.approx(math.sqrt(2 * 23 / 11))
+    values = [5.0 - 7.0 * hk**order for hk in h]
+    estimate = estimate_levels(values, grids)
+    assert estimate.observed and estimate.order == pytest.approx(order, abs=1e-9)
+    assert estimate.extrapolated == pytest.approx(5.0, abs=1e-9)
+    assert estimate_levels(values[:2], grids[:2]).reason == "too few levels"
 
 
 def _cylinder_pressure(n: int, radius: float, reduction: float) -> float:
@@ -60,6 +77,7 @@ def test_on_a_cylinder_the_estimate_is_the_true_error_and_the_order_is_two():
     assert estimate.observed and estimate.order == pytest.approx(2.0, abs=0.05)
     assert estimate.error == pytest.approx(exact - fine, rel=0.05)
     assert estimate.extrapolated == pytest.approx(exact, rel=1e-4)
+    assert abs(exact - fine) <= estimate.uncertainty  # the stated error brackets the true one
 
 
 @pytest.mark.parametrize(

@@ -81,6 +81,7 @@ class GarmentSpec:
     bend_modulus: float | None = None
     worn: bool = False
     set_strain: Mapping[str, float] = field(default_factory=lambda: MappingProxyType({}))
+    error_estimate: bool = True
 
     @property
     def nodes(self) -> int:
@@ -110,6 +111,7 @@ class GarmentSpec:
             bend_modulus=block.get("bend_modulus"),
             worn=bool(block.get("worn", False)),
             set_strain=MappingProxyType(dict(block.get("set_strain") or {})),
+            error_estimate=bool(block.get("error_estimate", True)),
         )
 
 

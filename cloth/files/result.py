@@ -24,6 +24,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
+from cloth.files.levels import estimate_columns
 from cloth.files.material import fabric_variables
 from cloth.files.state import CONSTRAINT_MEANINGS, CONTACT_MEANINGS
 from cloth.garment.state import State
@@ -183,7 +184,7 @@ def summary_rows(ds: xr.Dataset, case_name: str) -> list[dict[str, object]]:
             if name in ds
         }  # fmt: skip
         rows.append(
-            {"case": case_name, **record, **extra,
+            {"case": case_name, **record, **estimate_columns(ds, index), **extra,
              "converged": int(ds.attrs.get("converged", 0))}
         )  # fmt: skip
     return rows

@@ -15,6 +15,7 @@ import csv
 import io as _io
 import itertools
 import json
+import math
 from pathlib import Path
 
 import numpy as np
@@ -28,6 +29,11 @@ from cloth.results.landmarks import LANDMARK_FIELDS
 from cloth.results.pressure import MMHG, RAL_CLASSES
 
 FIELDS = {name: (units, long_name) for name, (_, units, long_name) in LANDMARK_FIELDS.items()}
+#: Each value's stated discretisation error (`cloth.files.levels`), NaN where not estimated.
+ERRORS = {
+    f"{name}_error": (units, f"estimated discretisation error of the {long_name}")
+    for name, (units, long_name) in FIELDS.items()
+}
 
 
 def _dims(index: list[dict]) -> tuple[str, ...]:
@@ -61,7 +67,7 @@ def collect(index: list[dict], results: list[str | Path]) -> xr.Dataset:
             if name not in landmarks:
                 landmarks.append(name)
     shape = (*(len(values[dim]) for dim in dims), len(landmarks))
-    data = {name: np.full(shape, np.nan) for name in FIELDS}
+    data = {name: np.full(shape, np.nan) for name in {**FIELDS, **ERRORS}}
     converged = np.zeros(shape[:-1], dtype=np.int8)
     for entry in index:
         ds = datasets[entry["case"]]
@@ -71,12 +77,14 @@ def collect(index: list[dict], results: list[str | Path]) -> xr.Dataset:
         )
         converged[i] = int(ds.attrs.get("converged", 0))
         for k, name in enumerate(ds["landmark"].values.tolist()):
-            for field in FIELDS:
-                data[field][(*i, landmarks.index(name))] = float(ds[field][k])
+            for field in data:
+                if field in ds:
+                    data[field][(*i, landmarks.index(name))] = float(ds[field][k])
     all_dims = (*dims, "landmark")
+    described = {**FIELDS, **ERRORS}
     variables = {
-        field: xr.Variable(all_dims, array, {"units": FIELDS[field][0],
-                                             "long_name": FIELDS[field][1]})
+        field: xr.Variable(all_dims, array, {"units": described[field][0],
+                                             "long_name": described[field][1]})
         for field, array in data.items()
     }  # fmt: skip
     flags = {"flag_values": np.array([0, 1], np.int8), "flag_meanings": "no yes"}
@@ -130,6 +138,7 @@ def sweep_rows(ds: xr.Dataset) -> list[dict[str, object]]:
             continue
         row = {**where, "pressure_mean_Pa": float(at["pressure_mean"]),
                "pressure_mean_mmHg": float(at["pressure_mean"]) / MMHG,
+               "pressure_mean_error_mmHg": _error(at) / MMHG,
                "pressure_max_mmHg": float(at["pressure_max"]) / MMHG,
                "tension_mean_N_per_m": float(at["tension_mean"]),
                "converged": int(at["converged"])}  # fmt: skip
@@ -139,6 +148,11 @@ def sweep_rows(ds: xr.Dataset) -> list[dict[str, object]]:
             row["worn_change_percent"] = 100 * (worn / float(at["pressure_mean"]) - 1)
         rows.append(row)
     return rows
+
+
+def _error(at: xr.Dataset) -> float:
+    """The stated error of a selection's mean pressure (Pa; NaN in a sweep without one)."""
+    return float(at["pressure_mean_error"]) if "pressure_mean_error" in at else float("nan")
 
 
 def write_rows(rows: list[dict[str, object]], path: str | Path, header: list[str]) -> Path:
@@ -181,7 +195,8 @@ def design(ds: xr.Dataset, targets: list[dict]) -> list[dict[str, object]]:
             row = {
                 **where, "landmark": landmark,
                 "target_Pa": goal, "target_mmHg": goal / MMHG,
-                "reduction": float("nan"), "status": "", "message": "",
+                "reduction": math.nan, "reduction_error": math.nan, "reduction_low": math.nan,
+                "reduction_high": math.nan, "status": "", "message": "",
             }  # fmt: skip
             if np.count_nonzero(ok) < 2:
                 row.update(status="no_data", message="fewer than two swept reductions")
@@ -198,13 +213,39 @@ def design(ds: xr.Dataset, targets: list[dict]) -> list[dict[str, object]]:
             else:
                 order = np.argsort(p[ok])
                 reduction = float(np.interp(goal, p[ok][order], reductions[ok][order]))
+                errors = _errors(ds, where, landmark)[ok]
                 row.update(reduction=reduction, status="ok")
+                row.update(reduction_interval(reductions[ok], p[ok], errors, reduction))
             rows.append(row)
     return rows
 
 
+def _errors(ds: xr.Dataset, where: dict, landmark: str) -> np.ndarray:
+    if "pressure_mean_error" not in ds:
+        return np.full(ds.sizes["reduction"], np.nan)
+    return ds["pressure_mean_error"].sel(where | {"landmark": landmark}).values
+
+
+def reduction_interval(
+    reductions: np.ndarray, pressures: np.ndarray, errors: np.ndarray, reduction: float
+) -> dict[str, float]:
+    """The design answer's interval: ``reduction`` (1) +- the stated pressure error at it (Pa,
+    interpolated between the two swept cases around it, ``errors``) over the slope of the mean
+    pressure between them (Pa per unit reduction): ``reduction_error``, ``reduction_low`` and
+    ``reduction_high`` (1); NaN where a case around it has no error estimate."""
+    order = np.argsort(reductions)
+    r, p, e = reductions[order], pressures[order], errors[order]
+    k = int(np.clip(np.searchsorted(r, reduction, side="right") - 1, 0, len(r) - 2))
+    t = (reduction - r[k]) / (r[k + 1] - r[k])
+    slope = (p[k + 1] - p[k]) / (r[k + 1] - r[k])
+    half = ((1 - t) * e[k] + t * e[k + 1]) / abs(slope) if slope else math.inf
+    return {"reduction_error": half, "reduction_low": reduction - half,
+            "reduction_high": reduction + half}  # fmt: skip
+
+
 DESIGN_HEADER = [
-    "material", "body", "landmark", "target_Pa", "target_mmHg", "reduction", "status", "message",
+    "material", "body", "landmark", "target_Pa", "target_mmHg", "reduction", "reduction_error",
+    "reduction_low", "reduction_high", "status", "message",
 ]  # fmt: skip
 
 
@@ -239,9 +280,13 @@ def confirm(
             ds = read_netcdf(next(paths), "result", ("pressure_mean",))
             confirmed = float(ds["pressure_mean"].sel(landmark=row["landmark"]))
             goal = float(row["target_Pa"])
+            error = ds["pressure_mean_error"] if "pressure_mean_error" in ds else None
+            stated = float("nan") if error is None else float(error.sel(landmark=row["landmark"]))
             record.update(
                 confirmed_Pa=confirmed,
                 confirmed_mmHg=confirmed / MMHG,
+                confirmed_error_Pa=stated,
+                confirmed_error_mmHg=stated / MMHG,
                 error_percent=100 * (confirmed - goal) / goal,
                 converged=int(ds.attrs.get("converged", 0)),
             )
@@ -273,7 +318,10 @@ def plot_design(ds: xr.Dataset, targets: list[dict], path: str | Path) -> Path:
                 [str(v) for v in where.values()]
                 + [Variant.of({d: v for d, v in first.items()}).label()]
             ).strip(", ")
-            (drawn,) = ax.plot(percent, line.values, "o-", label=label)
+            error = ds["pressure_mean_error"] if "pressure_mean_error" in ds else line * np.nan
+            bars = error.sel(where | first | {"landmark": landmark}).values / MMHG
+            drawn = ax.errorbar(percent, line.values, yerr=np.nan_to_num(bars), fmt="o-",
+                                capsize=2, label=label).lines[0]  # fmt: skip
             for hatch, dim in zip(("", "//", ".."), variants, strict=False):
                 if ds.sizes[dim] < 2:
                     continue  # the spread each varied key causes, the others at their first

@@ -141,6 +141,14 @@ def landmarks(
     return out
 
 
+def landmark_heights(state) -> dict[str, float]:
+    """A state's girth lines, name -> height (m): its body's (the torso's size chart), updated
+    by the case's ``landmarks``, else the body's girth extrema (`girth_extrema`)."""
+    heights = dict(state.body.get("landmarks", {}))
+    heights.update(state.case.landmarks)
+    return heights or girth_extrema(state)
+
+
 def girth_extrema(state) -> dict[str, float]:
     """Landmarks of a body without a size chart: the rows where the body's hull girth has an
     interior minimum or maximum (e.g. a waist, a hip), else the middle row."""

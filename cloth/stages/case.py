@@ -13,10 +13,13 @@ import logging
 from dataclasses import replace
 from pathlib import Path
 
-from cloth.case import Case
+import xarray as xr
+
+from cloth.case import Case, Settings
 from cloth.errors import EXIT_DIVERGED, InputError, StageFailed
 from cloth.figures.plots import plot_garment_3d
 from cloth.files.body import body_from_config, body_from_record
+from cloth.files.levels import level_variables, mark_values
 from cloth.files.material import load_fabric
 from cloth.files.relaxed import relaxed_dataset
 from cloth.files.state import read_state, state_dataset
@@ -26,9 +29,11 @@ from cloth.garment.state import State
 from cloth.io import write_netcdf
 from cloth.pipeline import guard
 from cloth.pipeline.config import load_case, validate_case
+from cloth.results.landmarks import landmark_heights
 from cloth.solvers import Diverged, relax
 from cloth.solvers.problem import Problem
 from cloth.solvers.relax import Result
+from cloth.stages.levels import LEVELS, relax_levels
 from cloth.stages.results import figures, view, write_result
 
 log = logging.getLogger("cloth")
@@ -107,8 +112,24 @@ def relax_state(state, overrides: dict, output: Path, previous: dict | None = No
             "explicit+newton or a smaller reduction",
             EXIT_DIVERGED,
         ) from None
-    write_netcdf(relaxed_dataset(state, result, settings, previous), output)
+    ds = relaxed_dataset(state, result, settings, previous)
+    if state.case.garment.error_estimate:
+        ds = ds.assign(levels_dataset(state.with_positions(result.final.x), body, settings))
+    write_netcdf(ds, output)
     log.info("wrote %s", output)
+
+
+def levels_dataset(relaxed: State, body, settings: Settings) -> xr.Dataset:
+    """The coarser levels of a relaxed state's case (`cloth.stages.levels`), summarised at its
+    own girth lines, as relaxed.nc's level variables (`cloth.files.levels`)."""
+    heights = landmark_heights(relaxed)
+    names = sorted(heights, key=heights.__getitem__)
+    levels = relax_levels(relaxed, body, settings, heights, LEVELS)
+    if not levels:
+        return xr.Dataset()
+    values = mark_values([level.marks for level in levels], names)
+    variables = level_variables([lv.grid for lv in levels], [lv.converged for lv in levels], values)
+    return xr.Dataset(variables, coords={"landmark": ("landmark", names)})
 
 
 def relax_file(initial: Path, output: Path, overrides: dict, force: bool = False) -> None:

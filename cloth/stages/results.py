@@ -14,6 +14,7 @@ import xarray as xr
 from cloth.figures.onbody import FIELDS, body_band, plot_on_body, shared_ranges
 from cloth.figures.plots import plot_result
 from cloth.figures.view import write_view
+from cloth.files import levels
 from cloth.files.body import body_from_record
 from cloth.files.result import result_dataset, summary_rows, write_summary
 from cloth.files.skin import result_skin_variables
@@ -22,7 +23,7 @@ from cloth.garment.grid import WEFT
 from cloth.garment.mechanics import spring_state
 from cloth.io import read_netcdf, write_netcdf
 from cloth.results.fields import lab_range_variables, node_average, node_fields
-from cloth.results.landmarks import girth_extrema, landmarks
+from cloth.results.landmarks import landmark_heights, landmarks
 from cloth.solvers.problem import Evaluation, Problem
 from cloth.solvers.stability import unstable_modes
 
@@ -36,19 +37,16 @@ def aggregate(relaxed_path: str | Path) -> tuple[xr.Dataset, list]:
     contact, normals) and computes every field, landmark and total.
     """
     state, ds = read_state(relaxed_path, "relaxed")
-    body, ref = body_from_record(state.body, relaxed_path), state.body
+    body = body_from_record(state.body, relaxed_path)
     problem = Problem.of(state, body)
     ev = problem.evaluate(state.x)
     fields = node_fields(
         state.grid, state.x, ev.springs, state.fabric.thickness, ev.forces, ev.unbalanced,
         ev.on_body, ev.normal, state.constraint,
     )  # fmt: skip
-    heights = dict(ref.get("landmarks", {}))
-    heights.update(state.case.landmarks)
-    if not heights:
-        heights = girth_extrema(state)
-    marks = landmarks(heights, state.x, fields, state.grid)
+    marks = landmarks(landmark_heights(state), state.x, fields, state.grid)
     result = result_dataset(state, fields, marks, ds)
+    result = result.assign(_estimates(state, marks, ds))
     if "x_initial" in ds:
         start = np.stack([ds[f"{a}_initial"].values.ravel() for a in "xyz"], axis=1)
         before = node_average(state.grid, spring_state(start, state.grid).stress, WEFT)
@@ -68,6 +66,22 @@ def aggregate(relaxed_path: str | Path) -> tuple[xr.Dataset, list]:
     result.attrs["unstable_modes"] = stability(problem, ev)
     name = Path(relaxed_path).parent.name
     return result, summary_rows(result, name)
+
+
+def _estimates(state, marks: list, relaxed: xr.Dataset) -> dict[str, xr.Variable]:
+    """The error estimate of every girth-line value from the levels relaxed.nc holds, and the
+    levels with the reported grid first (`cloth.files.levels`); logged per line."""
+    names = [mark.name for mark in marks]
+    grid = (state.grid.n, state.grid.m)
+    grids, converged, values = levels.read_levels(relaxed, names)
+    found = levels.estimates(marks, grid, grids, values)
+    levels.log_estimates(names, found)
+    fine = levels.mark_values([marks], names)
+    stacked = {f: np.concatenate([fine[f], values[f]]) if values else fine[f] for f in fine}
+    converged = [bool(int(relaxed.attrs.get("solver_converged", 0))), *converged]
+    return levels.estimate_variables(found) | levels.level_variables(
+        [grid, *grids], converged, stacked
+    )
 
 
 def stability(problem: Problem, ev: Evaluation) -> int:

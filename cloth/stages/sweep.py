@@ -58,8 +58,9 @@ def design_file(sweep: Path, targets: list[dict], output: Path) -> None:
         where = f"{row['material']} on {row['body']}" + (f" ({variant})" if variant else "")
         if row["status"] == "ok":
             log.info(
-                "%s: %.4g mmHg at the %s needs a reduction of %.4g (to be confirmed)",
-                where, row["target_mmHg"], row["landmark"], row["reduction"],
+                "%s: %.4g mmHg at the %s needs a reduction of %.4g +- %.2g (the girth line's "
+                "discretisation error; to be confirmed)", where, row["target_mmHg"],
+                row["landmark"], row["reduction"], row["reduction_error"],
             )  # fmt: skip
         else:
             log.warning("%s: %s", where, row["message"])
@@ -75,7 +76,8 @@ def confirm_file(design: Path, results: list[Path], output: Path) -> None:
     for row in rows:
         if "confirmed_mmHg" in row:
             log.info(
-                "%s on %s, %s: reduction %s gives %.4g mmHg (target %s, error %+.2f %%)",
+                "%s on %s, %s: reduction %s gives %.4g +- %.2g mmHg (target %s, off by %+.2f %%)",
                 row["material"], row["body"], row["landmark"], row["reduction"],
-                row["confirmed_mmHg"], row["target_mmHg"], row["error_percent"],
+                row["confirmed_mmHg"], row["confirmed_error_mmHg"], row["target_mmHg"],
+                row["error_percent"],
             )  # fmt: skip

@@ -1,0 +1,122 @@
+"""Every girth-line value says how far it is from the converged garment: a case relaxes two
+coarser grids too, and its result.nc and summary.csv carry the Richardson estimate of each value
+(`cloth.stages.levels`, `cloth.files.levels`). Checked against a finer grid on a cone, and
+silent (no error number) where the levels show no order."""
+
+from __future__ import annotations
+
+import csv
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+import xarray as xr
+import yaml
+
+from cloth.files.levels import read_levels
+from cloth.io import write_netcdf
+from cloth.stages.case import run_case
+from cloth.stages.levels import coarser_grids
+from cloth.stages.results import write_result
+
+ROOT = Path(__file__).resolve().parents[1]
+CONE = {"cone": {"radius_bottom": 0.13, "radius_top": 0.09, "bottom": 0.0, "top": 0.5}}
+LINES = {"low": 0.17, "mid": 0.25}
+
+
+def _cone(folder: Path, grid: list[int], estimate: bool = True, stop: str = "aggregate") -> Path:
+    """A tube on a cone, its warp stretched (lengthwise reduction 0.1) so that no fabric is
+    compressed: one stable equilibrium, every row its own radius and pressure."""
+    case = {
+        "material": "powernet", "body": CONE, "landmarks": LINES,
+        "garment": {"bottom": 0.1, "top": 0.4, "reduction": 0.15, "lengthwise_reduction": 0.1,
+                    "grid": grid, "error_estimate": estimate},
+    }  # fmt: skip
+    folder.mkdir(parents=True, exist_ok=True)
+    (folder / "case.yaml").write_text(yaml.safe_dump(case))
+    run_case(folder / "case.yaml", folder / "out", {}, ROOT, stop_after=stop)
+    return folder / "out"
+
+
+@pytest.fixture(scope="module")
+def cones(tmp_path_factory) -> dict[str, xr.Dataset]:
+    base = tmp_path_factory.mktemp("cones")
+    out = {}
+    for name, grid in (("coarse", [96, 24]), ("fine", [192, 48])):
+        with xr.open_dataset(_cone(base / name, grid) / "result.nc") as ds:
+            out[name] = ds.load()
+    out["summary"] = base / "coarse" / "out" / "summary.csv"
+    return out
+
+
+def test_grids_halve_rounding_up_and_stop_at_the_smallest():
+    assert coarser_grids((48, 24), 2) == [(24, 12), (12, 6)]
+    assert coarser_grids((97, 25), 2) == [(49, 13), (25, 7)]
+    assert coarser_grids((16, 6), 2) == [(8, 3)]  # 4 x 2 would be below 8 x 3
+
+
+def test_on_a_cone_the_stated_error_brackets_the_distance_to_a_finer_grid(cones):
+    """The cone's 96 x 24 values (levels 48 x 12 and 24 x 6) with their stated errors contain
+    the converged value as the 192 x 48 grid extrapolates it; the observed order is the scheme's
+    second order (within 10 %, so the safety factor is 1.25) on both grids."""
+    coarse, fine = cones["coarse"], cones["fine"]
+    for ds in (coarse, fine):
+        assert (ds["pressure_mean_estimate"].values == 0).all()
+        np.testing.assert_allclose(ds["pressure_mean_order"].values, 2.0, atol=0.2)
+    distance = np.abs(fine["pressure_mean_extrapolated"].values - coarse["pressure_mean"].values)
+    assert (distance <= coarse["pressure_mean_error"].values).all()
+    # the estimate is informative: the finer grid's stated error is smaller, and not zero
+    assert (0 < fine["pressure_mean_error"].values).all()
+    assert (fine["pressure_mean_error"].values < coarse["pressure_mean_error"].values / 2).all()
+
+
+def test_the_result_lists_its_levels_with_units_and_the_summary_says_the_error(cones):
+    ds = cones["coarse"]
+    assert ds["level_n"].values.tolist() == [96, 48, 24]
+    assert ds["level_m"].values.tolist() == [24, 12, 6]
+    np.testing.assert_array_equal(ds["level_pressure_mean"].values[0], ds["pressure_mean"].values)
+    assert ds["pressure_mean_error"].attrs["units"] == "Pa"
+    assert ds["tension_mean_error"].attrs["units"] == "N m-1"
+    assert ds["pressure_mean_order"].attrs["units"] == "1"
+    assert "flag_meanings" in ds["pressure_mean_estimate"].attrs
+    with open(cones["summary"], newline="") as handle:
+        rows = list(csv.DictReader(handle))
+    for row, error, value in zip(rows, ds["pressure_mean_error"].values,
+                                 ds["pressure_mean"].values, strict=True):  # fmt: skip
+        assert float(row["pressure_mean_error_Pa"]) == pytest.approx(error, rel=1e-5)
+        assert float(row["pressure_mean_error_percent"]) == pytest.approx(
+            100 * error / value, rel=1e-5
+        )
+        assert row["error_note"] == ""
+
+
+def test_levels_that_do_not_converge_monotonically_give_no_error_number(tmp_path):
+    """relaxed.nc's middle level moved beyond the fine value: the summary says why, and no
+    number stands where the error would be."""
+    out = _cone(tmp_path, [48, 12], stop="relax")
+    with xr.open_dataset(out / "relaxed.nc") as ds:
+        relaxed = ds.load()
+    with xr.open_dataset(_cone(tmp_path / "plain", [48, 12]) / "result.nc") as ds:
+        fine = ds["pressure_mean"].values
+    zigzag = relaxed["level_pressure_mean"].values.copy()
+    zigzag[0] = fine + 2 * (fine - zigzag[1])  # middle beyond fine, coarse on the other side
+    write_netcdf(relaxed.assign(level_pressure_mean=(("level", "landmark"), zigzag)),
+                 out / "zigzag.nc")  # fmt: skip
+    result = write_result(out / "zigzag.nc", out / "result.nc", out / "summary.csv")
+    assert (result["pressure_mean_estimate"].values == 4).all()  # not_monotone
+    assert np.isnan(result["pressure_mean_error"].values).all()
+    with open(out / "summary.csv", newline="") as handle:
+        for row in csv.DictReader(handle):
+            assert row["error_note"] == "the levels do not converge monotonically"
+            assert math.isnan(float(row["pressure_mean_error_Pa"]))
+
+
+def test_without_levels_the_result_says_the_error_was_not_estimated(tmp_path):
+    out = _cone(tmp_path, [48, 12], estimate=False)
+    with xr.open_dataset(out / "relaxed.nc") as ds:
+        assert read_levels(ds, list(LINES)) == ([], [], {})
+    with xr.open_dataset(out / "result.nc") as ds:
+        assert (ds["pressure_mean_estimate"].values == 1).all()  # too_few_levels
+        assert np.isnan(ds["pressure_mean_error"].values).all()
+        assert ds["level_n"].values.tolist() == [48]
