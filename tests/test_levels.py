@@ -14,8 +14,11 @@ import pytest
 import xarray as xr
 import yaml
 
+from cloth.errors import InputError
 from cloth.files.levels import read_levels
+from cloth.files.material import load_fabric
 from cloth.io import write_netcdf
+from cloth.pipeline.config import validate_case
 from cloth.stages.case import run_case
 from cloth.stages.levels import coarser_grids
 from cloth.stages.results import write_result
@@ -120,3 +123,60 @@ def test_without_levels_the_result_says_the_error_was_not_estimated(tmp_path):
         assert (ds["pressure_mean_estimate"].values == 1).all()  # too_few_levels
         assert np.isnan(ds["pressure_mean_error"].values).all()
         assert ds["level_n"].values.tolist() == [48]
+
+
+def _cylinder_auto(folder: Path, accuracy: float, max_nodes: int) -> xr.Dataset:
+    case = {
+        "material": "powernet", "body": {"cylinder": {"radius": 0.1}},
+        "garment": {"bottom": 0.1, "top": 0.4, "reduction": 0.2, "grid": "auto",
+                    "accuracy": accuracy, "max_nodes": max_nodes},
+    }  # fmt: skip
+    folder.mkdir(parents=True, exist_ok=True)
+    (folder / "case.yaml").write_text(yaml.safe_dump(case))
+    run_case(folder / "case.yaml", folder / "out", {}, ROOT, stop_after="aggregate")
+    with xr.open_dataset(folder / "out" / "result.nc") as ds:
+        return ds.load()
+
+
+def test_an_automatic_grid_refines_until_its_stated_error_meets_the_accuracy(tmp_path):
+    """On a cylinder, Laplace's p = T / r is the converged value. ``grid: auto`` doubles n and m
+    from 12 around until the stated error of the mean is within 0.2 %: that error then holds
+    (the true one is inside it), and the grid one step coarser would not have met it."""
+    ds = _cylinder_auto(tmp_path, 0.002, 100_000)
+    fabric = load_fabric("powernet", ROOT)
+    tension = float(fabric.weft(np.array([1.0 / 0.8 - 1.0]))[0]) * fabric.thickness
+    exact = tension / 0.1
+    value, error = float(ds["pressure_mean"][0]), float(ds["pressure_mean_error"][0])
+    assert ds.attrs["grid_met"] == "accuracy"
+    assert error / value <= 0.002
+    assert abs(exact - value) <= error
+    n = int(ds.attrs["n"])
+    assert n == 12 * 2 ** round(math.log2(n / 12)) and n >= 48  # doubled from the start
+    assert ds["level_n"].values.tolist() == [n, n // 2, n // 4]
+    coarser = ds["level_pressure_mean"].values[1:, 0]  # the step before: not yet within 0.2 %
+    assert abs(exact - coarser[0]) / coarser[0] > 0.002 / 1.25
+
+
+def test_an_automatic_grid_stops_at_its_node_cap_and_says_so(tmp_path, caplog):
+    ds = _cylinder_auto(tmp_path, 1e-6, 2000)
+    assert ds.attrs["grid_met"] == "node cap"
+    assert int(ds.attrs["n"]) * int(ds.attrs["m"]) <= 2000
+    assert "would pass max_nodes 2000" in caplog.text
+
+
+@pytest.mark.parametrize(
+    ("garment", "field", "words"),
+    [
+        ({"grid": "aut"}, "garment.grid", "or auto"),
+        ({"grid": [48, 24], "accuracy": 0.01}, "garment.accuracy", "give grid: auto"),
+        ({"grid": [48, 24], "max_nodes": 5000}, "garment.max_nodes", "give grid: auto"),
+        ({"grid": "auto", "accuracy": 0.0}, "garment.accuracy", "0"),
+    ],
+)
+def test_an_automatic_grid_asked_wrongly_gets_one_line_naming_the_field(garment, field, words):
+    case = {"material": "powernet", "body": CONE,
+            "garment": {"bottom": 0.1, "top": 0.4, "reduction": 0.15, **garment}}  # fmt: skip
+    with pytest.raises(InputError) as caught:
+        validate_case(case, "case.yaml")
+    assert caught.value.field == field and words in caught.value.detail
+    assert "\n" not in str(caught.value)

@@ -83,9 +83,16 @@ class GarmentSpec:
     set_strain: Mapping[str, float] = field(default_factory=lambda: MappingProxyType({}))
     error_estimate: bool = True
 
+    #: With ``grid: auto`` (`auto` True; ``grid`` is then (0, 0) until predeform chooses the
+    #: start): the relative error to refine to, and the largest grid (nodes).
+    auto: bool = False
+    accuracy: float = 0.01
+    max_nodes: int = 100_000
+
     @property
     def nodes(self) -> int:
-        return self.grid[0] * self.grid[1]
+        """The grid's nodes; with ``grid: auto``, the most it may have (`max_nodes`)."""
+        return self.max_nodes if self.auto else self.grid[0] * self.grid[1]
 
     @property
     def moduli(self) -> dict[str, float]:
@@ -96,10 +103,11 @@ class GarmentSpec:
     @classmethod
     def from_block(cls, block: Mapping[str, Any]) -> GarmentSpec:
         loop = block.get("loop_point")
+        auto = block["grid"] == "auto"
         return cls(
             bottom=float(block["bottom"]),
             top=float(block["top"]),
-            grid=(int(block["grid"][0]), int(block["grid"][1])),
+            grid=(0, 0) if auto else (int(block["grid"][0]), int(block["grid"][1])),
             reduction=block.get("reduction"),
             circumference=block.get("circumference"),
             lengthwise_reduction=float(block.get("lengthwise_reduction", 0.0)),
@@ -112,6 +120,9 @@ class GarmentSpec:
             worn=bool(block.get("worn", False)),
             set_strain=MappingProxyType(dict(block.get("set_strain") or {})),
             error_estimate=bool(block.get("error_estimate", True)),
+            auto=auto,
+            accuracy=float(block.get("accuracy", 0.01)),
+            max_nodes=int(block.get("max_nodes", 100_000)),
         )
 
 

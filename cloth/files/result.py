@@ -153,7 +153,7 @@ def result_dataset(
     attrs = global_attrs(f"cloth result: {state.fabric.name}", dict(relaxed.attrs))
     keep = ("case", "body", "provenance", "fabric_name", "around", "n", "m", "closed")
     attrs.update({k: relaxed.attrs[k] for k in keep if k in relaxed.attrs})
-    attrs.update({k: v for k, v in relaxed.attrs.items() if k.startswith("solver_")})
+    attrs.update({k: v for k, v in relaxed.attrs.items() if k.startswith(("solver_", "grid_"))})
     attrs.update(
         {
             "cloth_kind": KIND,

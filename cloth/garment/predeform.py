@@ -131,12 +131,25 @@ def wrap(
     return x
 
 
+#: Nodes around the coarsest grid of ``grid: auto``.
+START_AROUND = 12
+
+
+def start_grid(body: Body, bottom: float, top: float) -> tuple[int, int]:
+    """The coarsest grid of ``grid: auto``: `START_AROUND` nodes around, and rows as far apart
+    as the nodes are around the body's girth halfway up (square cells; at least 3 rows)."""
+    girth = float(body.girth(0.5 * (bottom + top))[1])
+    rows = 1 + round((top - bottom) / (girth / START_AROUND))
+    return START_AROUND, max(3, int(rows))
+
+
 def predeform(
     case: Case,
     fabric: Fabric,
     body: Body,
     body_record: dict,
     source: str = "case",
+    grid: tuple[int, int] | None = None,
 ) -> State:
     """Build the initial state of a case: pattern, wrapped positions, constraints. Reads no file.
 
@@ -153,10 +166,15 @@ def predeform(
         a fitted surface's record is added to a copy.
     source : str
         Name of the case in error messages.
+    grid : (int, int), optional
+        Nodes around and rows, instead of the case's (a coarser level of its error estimate,
+        a step of ``grid: auto``); with ``grid: auto`` and none given, `start_grid`.
     """
     garment = case.garment
     body_ref = dict(body_record)
-    n, m = garment.grid
+    if grid is None:
+        grid = start_grid(body, garment.bottom, garment.top) if garment.auto else garment.grid
+    n, m = grid
     heights = np.linspace(garment.bottom, garment.top, m)
     log.info("predeform: %s nodes (%d x %d) on the body", f"{n * m:,}", n, m)
     hulls = row_hulls(body, heights, garment.loop_point, n)

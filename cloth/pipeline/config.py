@@ -53,6 +53,8 @@ def schema_message(error: jsonschema.ValidationError) -> str:
         message = f"{message[:200]}... ({len(message)} characters)"
     if error.validator == "additionalProperties":
         message += "; check the spelling against docs/config.md"
+    if error.validator == "oneOf" and "description" in error.schema:
+        message = f"{shown(value)} is not one of the forms asked: {error.schema['description']}"
     return " ".join(message.split())
 
 
@@ -129,8 +131,16 @@ def validate_case(case: Case | dict[str, Any], source: str | Path = "case") -> C
             source,
             "garment.bottom",
         )
-    n, m = garment["grid"]
-    if n < 3 or m < 2:
+    if garment["grid"] == "auto":
+        pass
+    elif "accuracy" in garment or "max_nodes" in garment:
+        key = "accuracy" if "accuracy" in garment else "max_nodes"
+        raise InputError(
+            f"{key} refines an automatic grid; give grid: auto, or drop {key} (an explicit "
+            "grid reports its own error estimate)", source, f"garment.{key}",
+        )  # fmt: skip
+    elif garment["grid"][0] < 3 or garment["grid"][1] < 2:
+        n, m = garment["grid"]
         raise InputError(
             f"grid {n} x {m} is too small; a tube needs at least 3 nodes around and 2 up",
             source,

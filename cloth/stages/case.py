@@ -15,7 +15,7 @@ from pathlib import Path
 
 import xarray as xr
 
-from cloth.case import Case, Settings
+from cloth.case import Case
 from cloth.errors import EXIT_DIVERGED, InputError, StageFailed
 from cloth.figures.plots import plot_garment_3d
 from cloth.files.body import body_from_config, body_from_record
@@ -33,7 +33,7 @@ from cloth.results.landmarks import landmark_heights
 from cloth.solvers import Diverged, relax
 from cloth.solvers.problem import Problem
 from cloth.solvers.relax import Result
-from cloth.stages.levels import LEVELS, relax_levels
+from cloth.stages.levels import LEVELS, Level, refine, relax_levels
 from cloth.stages.results import figures, view, write_result
 
 log = logging.getLogger("cloth")
@@ -97,12 +97,19 @@ def _plot_wrapped(state, path: Path, name: str) -> None:
 
 def relax_state(state, overrides: dict, output: Path, previous: dict | None = None) -> None:
     """Relax ``state`` (its case's solver block, ``overrides`` on top) on the body its record
-    names, and write relaxed.nc. A divergence writes the last finite state to
-    ``*.diverged.nc`` and raises `StageFailed`."""
+    names, with the coarser levels of its error estimate (`cloth.stages.levels`; with
+    ``grid: auto``, the grids refined until the case's accuracy), and write relaxed.nc. A
+    divergence writes the last finite state to ``*.diverged.nc`` and raises `StageFailed`."""
     settings = replace(state.case.solver, **overrides)
     body = body_from_record(state.body, output)
+    garment = state.case.garment
+    refined = None
     try:
-        result = relax(state, body, settings)
+        if garment.auto:
+            refined = refine(state, body, settings, garment.accuracy, garment.max_nodes)
+            state, result = refined.state, refined.result
+        else:
+            result = relax(state, body, settings)
     except Diverged as exc:
         failed = output.with_name(output.stem + ".diverged.nc")
         run = Result.diverged(exc, Problem.of(state, body).evaluate(exc.x), settings)
@@ -113,20 +120,28 @@ def relax_state(state, overrides: dict, output: Path, previous: dict | None = No
             EXIT_DIVERGED,
         ) from None
     ds = relaxed_dataset(state, result, settings, previous)
-    if state.case.garment.error_estimate:
-        ds = ds.assign(levels_dataset(state.with_positions(result.final.x), body, settings))
+    relaxed = state.with_positions(result.final.x)
+    if refined is not None:
+        ds = ds.assign(levels_dataset(relaxed, refined.levels))
+        ds.attrs.update(
+            grid_auto=1, grid_accuracy=garment.accuracy, grid_max_nodes=garment.max_nodes,
+            grid_met=refined.met, grid_worst_error=refined.worst,
+        )  # fmt: skip
+    elif garment.error_estimate:
+        heights = landmark_heights(relaxed)
+        levels = relax_levels(relaxed, body, settings, heights, LEVELS)
+        ds = ds.assign(levels_dataset(relaxed, levels))
     write_netcdf(ds, output)
     log.info("wrote %s", output)
 
 
-def levels_dataset(relaxed: State, body, settings: Settings) -> xr.Dataset:
-    """The coarser levels of a relaxed state's case (`cloth.stages.levels`), summarised at its
-    own girth lines, as relaxed.nc's level variables (`cloth.files.levels`)."""
-    heights = landmark_heights(relaxed)
-    names = sorted(heights, key=heights.__getitem__)
-    levels = relax_levels(relaxed, body, settings, heights, LEVELS)
+def levels_dataset(relaxed: State, levels: list[Level]) -> xr.Dataset:
+    """relaxed.nc's level variables (`cloth.files.levels`) of ``levels``, along the relaxed
+    state's girth lines (none without levels)."""
     if not levels:
         return xr.Dataset()
+    heights = landmark_heights(relaxed)
+    names = sorted(heights, key=heights.__getitem__)
     values = mark_values([level.marks for level in levels], names)
     variables = level_variables([lv.grid for lv in levels], [lv.converged for lv in levels], values)
     return xr.Dataset(variables, coords={"landmark": ("landmark", names)})

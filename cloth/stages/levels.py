@@ -17,17 +17,20 @@ A level costs about a quarter of the grid above it, so two levels add about a th
 from __future__ import annotations
 
 import logging
+import math
 import time
 from dataclasses import dataclass, replace
 
 from cloth.bodies import Body
-from cloth.case import Case, Settings
+from cloth.case import Settings
 from cloth.garment.predeform import predeform
 from cloth.garment.state import State
 from cloth.results.fields import node_fields
-from cloth.results.landmarks import Landmark, landmarks
+from cloth.results.landmarks import Landmark, landmark_heights, landmarks
+from cloth.results.richardson import estimate_levels
 from cloth.solvers import Diverged, relax
 from cloth.solvers.problem import Evaluation
+from cloth.solvers.relax import Result
 
 log = logging.getLogger(__name__)
 
@@ -62,13 +65,6 @@ def coarser_grids(grid: tuple[int, int], count: int) -> list[tuple[int, int]]:
     return out
 
 
-def with_grid(case: Case, grid: tuple[int, int]) -> Case:
-    """``case`` with the garment's grid replaced (its mapping too, so that it writes back)."""
-    data = case.to_dict()
-    data["garment"]["grid"] = [int(grid[0]), int(grid[1])]
-    return Case.from_dict(data)
-
-
 def girth_marks(state: State, final: Evaluation, heights: dict[str, float]) -> tuple[Landmark, ...]:
     """The girth-line summaries of ``state``'s grid at the equilibrium ``final``."""
     fields = node_fields(
@@ -84,7 +80,7 @@ def relax_level(
     """``state``'s case on ``grid``: pre-deformed, relaxed (no progress bar) and summarised at
     ``heights`` (m); a level that diverges has no marks (its estimate says so)."""
     start = time.perf_counter()
-    coarse = predeform(with_grid(state.case, grid), state.fabric, body, state.body)
+    coarse = predeform(state.case, state.fabric, body, state.body, grid=grid)
     try:
         result = relax(coarse, body, replace(settings, progress=False))
     except Diverged as failure:
@@ -112,3 +108,92 @@ def relax_levels(
     if len(grids) < 2:  # one level shows no order
         return []
     return [relax_level(state, body, settings, grid, heights) for grid in grids]
+
+
+@dataclass(frozen=True)
+class Refined:
+    """What ``grid: auto`` found (`refine`): the finest grid's initial ``state`` and its
+    relaxation ``result``, the ``levels`` below it (finest first), what ended the refinement
+    (``met``: "accuracy" or "node cap") and the largest stated relative error of a girth-line
+    mean on the finest grid (``worst``; inf where a line had none)."""
+
+    state: State
+    result: Result
+    levels: list[Level]
+    met: str
+    worst: float
+
+
+def worst_error(
+    grid: tuple[int, int], marks: tuple[Landmark, ...], levels: list[Level]
+) -> tuple[float, str]:
+    """The largest stated error of a girth-line mean pressure of ``marks`` (on ``grid``),
+    relative to the value (1), from the ``levels`` below it, and which line and why: (inf, the
+    line and the reason) where a line has no estimate."""
+    worst, which = (0.0, "") if marks else (math.inf, "no girth line on the garment")
+    for mark in marks:
+        values = [mark.mean] + [
+            next((m.mean for m in lv.marks if m.name == mark.name), math.nan) for lv in levels
+        ]
+        estimate = estimate_levels(values, [grid, *(lv.grid for lv in levels)])
+        if not estimate.observed:
+            return math.inf, f"{mark.name}: no estimate ({estimate.reason})"
+        if estimate.relative_error > worst:
+            worst, which = estimate.relative_error, mark.name
+    return worst, which
+
+
+def refine(start: State, body: Body, settings: Settings, accuracy: float, cap: int) -> Refined:
+    """``grid: auto``: relax ``start`` (the case on `cloth.garment.predeform.start_grid`), then
+    the case on grids with n and m doubled, until the stated error of every girth-line mean
+    (from the grid and the two below it) is at most ``accuracy`` (1), or the next grid would
+    pass ``cap`` nodes. A grid that diverges ends the refinement on the one before (`Diverged`
+    from the first)."""
+    runs: list[tuple[State, Result]] = []
+    state, met, worst, which = start, "node cap", math.inf, "fewer than three grids"
+    while True:
+        try:
+            result = relax(state, body, settings)
+        except Diverged as failure:
+            if not runs:
+                raise
+            log.warning("grid auto: the %d x %d grid diverged (%s); the result is the grid "
+                        "before", state.grid.n, state.grid.m, failure)  # fmt: skip
+            break
+        runs = [*runs[-2:], (state, result)]
+        levels = _levels(runs)
+        if len(levels) == 2:
+            grid = (state.grid.n, state.grid.m)
+            worst, which = worst_error(grid, _marks(state, result), levels)
+            log.info("grid auto: %d x %d, largest stated error of a girth-line mean %.3g %% "
+                     "(%s; asked %.3g %%)", *grid, 100 * worst, which, 100 * accuracy)  # fmt: skip
+            if worst <= accuracy:
+                met = "accuracy"
+                log.info("grid auto: %d x %d meets the accuracy asked", *grid)
+                break
+        n, m = 2 * state.grid.n, 2 * state.grid.m
+        if n * m > cap:
+            log.warning(
+                "grid auto: the next grid (%d x %d) would pass max_nodes %d; stopping at %d x %d "
+                "with a largest stated error of %.3g %% (%s; asked %.3g %%)", n, m, cap,
+                state.grid.n, state.grid.m, 100 * worst, which, 100 * accuracy,
+            )  # fmt: skip
+            break
+        state = predeform(start.case, start.fabric, body, start.body, grid=(n, m))
+    state, result = runs[-1]
+    return Refined(state, result, _levels(runs), met, worst)
+
+
+def _marks(state: State, result: Result) -> tuple[Landmark, ...]:
+    heights = landmark_heights(state.with_positions(result.final.x))
+    return girth_marks(state, result.final, heights)
+
+
+def _levels(runs: list[tuple[State, Result]]) -> list[Level]:
+    """The levels below the last of ``runs`` (finest first), summarised at its heights."""
+    state, result = runs[-1]
+    heights = landmark_heights(state.with_positions(result.final.x))
+    return [
+        Level((s.grid.n, s.grid.m), girth_marks(s, r.final, heights), r.converged, r.seconds)
+        for s, r in reversed(runs[:-1])
+    ]
