@@ -14,14 +14,17 @@ import pytest
 import xarray as xr
 import yaml
 
+from cloth.bodies.torso import chart_size, torso_mesh
 from cloth.errors import InputError
 from cloth.files.levels import read_levels
 from cloth.files.material import load_fabric
 from cloth.io import write_netcdf
 from cloth.pipeline.config import validate_case
+from cloth.results.resolution import mesh_spacing, row_spacing
 from cloth.stages.case import run_case
 from cloth.stages.levels import coarser_grids
 from cloth.stages.results import write_result
+from tests.conftest import capped_cylinder
 
 ROOT = Path(__file__).resolve().parents[1]
 CONE = {"cone": {"radius_bottom": 0.13, "radius_top": 0.09, "bottom": 0.0, "top": 0.5}}
@@ -180,3 +183,26 @@ def test_an_automatic_grid_asked_wrongly_gets_one_line_naming_the_field(garment,
         validate_case(case, "case.yaml")
     assert caught.value.field == field and words in caught.value.detail
     assert "\n" not in str(caught.value)
+
+
+def test_a_ring_meshs_vertical_sampling_is_its_ring_spacing():
+    """The torso written as 32 x 30 rings (a ring at every girth line): at each line the mesh
+    samples the body at the gap to the next ring below or above; a cylinder meshed with
+    rings one segment apart, at that gap; a height outside the mesh at none. The garment's row spacing is the gap
+    between the rows around the line."""
+    chart = chart_size("M")
+    vertices, faces = torso_mesh(chart, 32, 30)
+    rings = np.unique(np.round(vertices[:, 2], 9))
+    heights = np.array([chart.height[name] for name in ("hip", "waist", "underbust", "bust")])
+    found = mesh_spacing(vertices, faces, heights)
+    for height, step in zip(heights, found, strict=True):
+        at = int(np.argmin(np.abs(rings - height)))
+        gaps = np.diff(rings[at - 1 : at + 2])
+        assert gaps.min() - 1e-12 <= step <= gaps.max() + 1e-12
+    tube_v, tube_f = capped_cylinder(0.1, 0.5, 16)
+    gap = float(np.diff(np.unique(tube_v[:-2, 2]))[0])
+    assert mesh_spacing(tube_v, tube_f, np.array([0.25, 0.26]))[1] == pytest.approx(gap)
+    assert np.isnan(mesh_spacing(tube_v, tube_f, np.array([0.9]))[0])
+    rows = np.array([0.0, 0.1, 0.3, 0.6])
+    np.testing.assert_allclose(row_spacing(rows, np.array([0.05, 0.1, 0.5, 0.6])),
+                               [0.1, 0.2, 0.3, 0.3])  # fmt: skip

@@ -128,6 +128,17 @@ def estimate_variables(found: dict[str, list[Estimate]]) -> dict[str, xr.Variabl
     return out
 
 
+def resolution_variables(rows: np.ndarray, mesh: np.ndarray | None) -> dict[str, xr.Variable]:
+    """result.nc's ``row_spacing`` and, on a mesh body, ``mesh_spacing`` along ``landmark`` (m;
+    `cloth.results.resolution`)."""
+    out = {"row_spacing": variable("landmark", rows, "m", "garment row spacing at the girth line")}
+    if mesh is not None:
+        out["mesh_spacing"] = variable(
+            "landmark", mesh, "m", "vertical sampling of the body's mesh at the girth line"
+        )
+    return out
+
+
 def estimate_columns(ds: xr.Dataset, index: int) -> dict[str, object]:
     """summary.csv's error columns of the ``index``-th girth line of a result dataset: the
     stated error of the mean (Pa, mmHg, % of the value), its observed order and extrapolation,
@@ -138,6 +149,12 @@ def estimate_columns(ds: xr.Dataset, index: int) -> dict[str, object]:
     mean = float(ds["pressure_mean"][index])
     error = float(ds["pressure_mean_error"][index])
     code = int(ds["pressure_mean_estimate"][index])
+    notes = [] if code == 0 else [REASONS.get(code, "not estimated")]
+    if "mesh_spacing" in ds and float(ds["mesh_spacing"][index]) > float(ds["row_spacing"][index]):
+        notes.append(
+            f"the mesh's vertices are {1e3 * float(ds['mesh_spacing'][index]):.3g} mm apart in "
+            f"height, the rows {1e3 * float(ds['row_spacing'][index]):.3g} mm: not in the error"
+        )
     return {
         "pressure_mean_error_Pa": error,
         "pressure_mean_error_mmHg": error / MMHG,
@@ -147,8 +164,12 @@ def estimate_columns(ds: xr.Dataset, index: int) -> dict[str, object]:
         "pressure_max_error_Pa": float(ds["pressure_max_error"][index]),
         "pressure_min_error_Pa": float(ds["pressure_min_error"][index]),
         "tension_weft_mean_error_N_per_m": float(ds["tension_mean_error"][index]),
-        "error_note": "" if code == 0 else REASONS.get(code, "not estimated"),
-    }
+        "error_note": "; ".join(notes),
+        **({"row_spacing_mm": 1e3 * float(ds["row_spacing"][index])} if "row_spacing" in ds
+           else {}),
+        **({"mesh_spacing_mm": 1e3 * float(ds["mesh_spacing"][index])} if "mesh_spacing" in ds
+           else {}),
+    }  # fmt: skip
 
 
 def log_estimates(names: Sequence[str], found: dict[str, list[Estimate]]) -> None:

@@ -24,6 +24,7 @@ from cloth.garment.mechanics import spring_state
 from cloth.io import read_netcdf, write_netcdf
 from cloth.results.fields import lab_range_variables, node_average, node_fields
 from cloth.results.landmarks import landmark_heights, landmarks
+from cloth.results.resolution import mesh_spacing, row_spacing
 from cloth.solvers.problem import Evaluation, Problem
 from cloth.solvers.stability import unstable_modes
 
@@ -47,6 +48,7 @@ def aggregate(relaxed_path: str | Path) -> tuple[xr.Dataset, list]:
     marks = landmarks(landmark_heights(state), state.x, fields, state.grid)
     result = result_dataset(state, fields, marks, ds)
     result = result.assign(_estimates(state, marks, ds))
+    result = result.assign(_resolution(state, body, marks))
     if "x_initial" in ds:
         start = np.stack([ds[f"{a}_initial"].values.ravel() for a in "xyz"], axis=1)
         before = node_average(state.grid, spring_state(start, state.grid).stress, WEFT)
@@ -82,6 +84,26 @@ def _estimates(state, marks: list, relaxed: xr.Dataset) -> dict[str, xr.Variable
     return levels.estimate_variables(found) | levels.level_variables(
         [grid, *grids], converged, stacked
     )
+
+
+def _resolution(state, body, marks: list) -> dict[str, xr.Variable]:
+    """The garment's row spacing at each girth line and, on a mesh body, the mesh's vertical
+    sampling there (`cloth.results.resolution`), logged where the mesh is the coarser."""
+    heights = np.array([mark.height for mark in marks])
+    rows_z = state.x.reshape(state.grid.m, state.grid.n, 3)[..., 2].mean(axis=1)
+    rows = row_spacing(rows_z, heights) if len(marks) and state.grid.m > 1 else heights * np.nan
+    faces = getattr(body, "faces", None)
+    mesh = None if faces is None else mesh_spacing(np.asarray(body.vertices), faces, heights)
+    if mesh is not None:
+        for mark, row, step in zip(marks, rows, mesh, strict=True):
+            if step > row:
+                log.info(
+                    "%s: the mesh's vertices are %.3g mm apart in height there, the garment's "
+                    "rows %.3g mm: between them the body is the fitted surface's interpolation, "
+                    "which the error estimate (the garment's grid on a fixed surface) does not "
+                    "include", mark.name, 1e3 * step, 1e3 * row,
+                )  # fmt: skip
+    return levels.resolution_variables(rows, mesh)
 
 
 def stability(problem: Problem, ev: Evaluation) -> int:
