@@ -188,8 +188,8 @@ def test_an_automatic_grid_asked_wrongly_gets_one_line_naming_the_field(garment,
 def test_a_ring_meshs_vertical_sampling_is_its_ring_spacing():
     """The torso written as 32 x 30 rings (a ring at every girth line): at each line the mesh
     samples the body at the gap to the next ring below or above; a cylinder meshed with
-    rings one segment apart, at that gap; a height outside the mesh at none. The garment's row spacing is the gap
-    between the rows around the line."""
+    rings one segment apart, at that gap; a height outside the mesh at none. The garment's row
+    spacing is the gap between the rows around the line."""
     chart = chart_size("M")
     vertices, faces = torso_mesh(chart, 32, 30)
     rings = np.unique(np.round(vertices[:, 2], 9))

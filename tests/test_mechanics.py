@@ -7,6 +7,7 @@ import pytest
 
 from cloth.garment.grid import build_grid
 from cloth.garment.mechanics import energy, forces, spring_state, stiffness
+from tests.conftest import make_fabric
 
 
 def random_configuration(fabric, kind, seed, closed=False):
@@ -64,7 +65,12 @@ def test_stiffness_is_energy_hessian(fabric, kind, seed, closed):
         assert np.linalg.norm(fd - exact) <= 1e-6 * np.linalg.norm(exact)
 
 
-def test_projected_stiffness_is_positive_semidefinite(fabric):
+def test_projected_stiffness_is_positive_semidefinite():
+    """With a compression modulus (1 % here) compressed springs soften across and the exact
+    stiffness is indefinite; the projected one is not. The default pure tension field makes the
+    exact one positive semi-definite itself (each spring's energy convex in the positions)."""
+    tension = build_grid(7, 5, 0.3, np.linspace(0, 0.2, 5), make_fabric())
+    fabric = make_fabric(compression=0.01)
     grid = build_grid(7, 5, 0.3, np.linspace(0, 0.2, 5), fabric)  # the paper's springs only
     u, v = grid.rest_uv.T
     x = np.stack([1.3 * u, 0.8 * v, np.zeros_like(u)], axis=1)
@@ -73,6 +79,9 @@ def test_projected_stiffness_is_positive_semidefinite(fabric):
     projected = stiffness(x, grid, project=True).toarray()
     assert np.linalg.eigvalsh(full).min() < -1e-6 * np.abs(full).max()  # compression: indefinite
     assert np.linalg.eigvalsh(projected).min() >= -1e-9 * np.abs(projected).max()
+    exact = stiffness(x, tension).toarray()
+    assert np.linalg.eigvalsh(exact).min() >= -1e-9 * np.abs(exact).max()
+    assert np.any(spring_state(x, tension).strain < 0)  # compressed springs, carrying nothing
 
 
 def test_projection_changes_nothing_in_pure_tension(fabric):

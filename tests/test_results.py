@@ -13,6 +13,7 @@ from cloth.io import write_netcdf
 from cloth.results.fields import node_fields
 from cloth.results.pressure import MMHG, comfort_group, ral_class
 from cloth.stages import aggregate
+from tests.conftest import make_fabric
 from tests.test_relax import THICKNESS, solve, tube
 
 
@@ -107,16 +108,20 @@ def test_laplace_diagnostic_uses_tension_per_deformed_width(tmp_path):
     )
 
 
-def test_flat_patch_node_stress_is_the_lab_curve_with_its_sign(fabric):
+@pytest.mark.parametrize("compression", [None, 0.01], ids=["tension-field", "regularised"])
+def test_flat_patch_node_stress_is_the_lab_curve_with_its_sign(compression):
     """Stretched 35 % along the weft and compressed 10 % along the warp: node stresses are the
-    lab curve's, the warp's negative (compression: the curve's small compression modulus)."""
+    lab curve's; the warp's is 0 in the default pure tension field, negative with a compression
+    modulus (here 1 % of the first slope)."""
+    fabric = make_fabric(compression=compression)
     grid = rectangle(7, 5, 0.3, 0.2, fabric)
     u, v = grid.rest_uv.T
     x = np.stack([1.35 * u, 0.9 * v, np.zeros_like(u)], axis=1)
     fields = node_fields(grid, x, spring_state(x, grid), fabric.thickness)
     np.testing.assert_allclose(fields.stress_weft, float(fabric.weft.stress(0.35)), rtol=1e-12)
     np.testing.assert_allclose(fields.stress_warp, float(fabric.warp.stress(-0.1)), rtol=1e-12)
-    assert np.all(fields.stress_warp < 0) and np.all(fields.stress_weft > 0)
+    assert np.all(fields.stress_weft > 0)
+    assert np.all(fields.stress_warp < 0) if compression else np.all(fields.stress_warp == 0)
     assert np.all(fields.pressure == 0)
 
 

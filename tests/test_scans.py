@@ -59,6 +59,7 @@ def girth_pressures(body: dict, grid: tuple[int, int]):
     on = fields.on_body.reshape(state.grid.m, state.grid.n).astype(bool)
     pressure = np.where(on, fields.pressure.reshape(state.grid.m, state.grid.n), 0.0)
     means = {name: float(pressure[nearest_row(rows_z, h)].mean()) for name, h in heights.items()}
+    state.attrs["row_means"] = (rows_z, pressure.mean(axis=1))  # for a comparison over a window
     return result, state, means
 
 

@@ -12,8 +12,10 @@ gauge node's index, -1 for none), ``solver_factorisations`` (linear systems fact
 run, coarse levels included), ``solver_continuation`` (0/1) and ``solver_coarsest`` (its
 coarsest level's node limit), ``solver_reuse`` (0/1: factorisations kept across Newton
 steps), and ``solver_peak_memory_mib`` (the process's peak resident
-memory at its end, MiB); with tissue or friction ``solver_lags`` (solves with the skin models'
-lagged quantities, `cloth.solvers.lagged`) and the friction variables of `cloth.files.skin`.
+memory at its end, MiB); ``solver_unstable_modes`` where the run counted them from its last
+factor (`cloth.solvers.relax.final_inertia`: the aggregate stage then factorises nothing);
+with tissue or friction ``solver_lags`` (solves with the skin models' lagged quantities,
+`cloth.solvers.lagged`) and the friction variables of `cloth.files.skin`.
 ``solver_iterations`` and the history are the requested grid's.
 """
 
@@ -94,6 +96,11 @@ def relaxed_dataset(
             "solver_reuse": int(settings.reuse),
             "solver_peak_memory_mib": float(peak_memory) / 2**20,
             **({"solver_lags": int(run.lags)} if run.lags else {}),
+            **(
+                {"solver_unstable_modes": int(run.unstable_modes)}
+                if run.unstable_modes is not None
+                else {}
+            ),
         },
     )
     ds = state_dataset(relaxed, stage, previous)

@@ -279,11 +279,13 @@ def solve(
     name: str,
     reuse: Reuse | None = None,
     factorise: Factorise | None = None,
+    keep: list | None = None,
 ) -> NDArray[np.float64]:
     """Solve ``matrix @ x = rhs`` (symmetric) with solver ``name`` (already `choose`n), or with
     ``reuse``'s kept factor (`Reuse`: SuperLU, CHOLMOD or Pardiso); ``factorise``: the
     positive definite matrix a `PRECONDITIONED` backend factorises instead, or its assembly
-    (`Reuse.solve`).
+    (`Reuse.solve`). ``keep`` (a list) gets SuperLU's unpivoted factor of ``matrix`` itself
+    where the solve made or used a fresh one (its inertia, `cloth.solvers.stability`).
 
     An iterative or Cholesky backend can fail where the matrix is not positive definite (the
     curvature term of contact can make it indefinite far from equilibrium): that step is then
@@ -292,7 +294,12 @@ def solve(
     if reuse is None and name in ANALYSED:  # one factorisation, through the same code
         reuse = Reuse(name, gmres=False)
     if name == "superlu":
-        return _solve(matrix, rhs, name) if reuse is None else reuse.solve(matrix, rhs)
+        if reuse is None:
+            return _solve(matrix, rhs, name, keep)
+        x = reuse.solve(matrix, rhs)
+        if keep is not None and reuse.krylov[-1:] == [0]:  # a fresh factor of this matrix
+            keep.append(reuse.factor)
+        return x
     try:
         if reuse is not None and name in REUSABLE:
             return reuse.solve(matrix, rhs, factorise)
@@ -355,10 +362,15 @@ class _Permuted:
         return x
 
 
-def _solve(matrix: sp.csr_matrix, rhs: NDArray[np.float64], name: str) -> NDArray[np.float64]:
+def _solve(
+    matrix: sp.csr_matrix, rhs: NDArray[np.float64], name: str, keep: list | None = None
+) -> NDArray[np.float64]:
     global _factorisations
     if name == "superlu":
-        return _factor(matrix).solve(rhs)
+        factor = _factor(matrix)
+        if keep is not None:
+            keep.append(factor)
+        return factor.solve(rhs)
     _factorisations += 1
     if name == "amg":  # cholmod and pardiso factorise through `Reuse` (their analysis kept)
         import pyamg

@@ -159,18 +159,29 @@ class Newton:
         # CHOLMOD and pardiso keep their symbolic analysis between iterations even without reuse
         keep = solver in REUSABLE and (reuse or solver in ANALYSED)
         self.reuse = Reuse(solver, gmres=reuse) if keep else None
+        #: SuperLU's unpivoted factor of the last step's exact Newton matrix, where that step
+        #: solved with one (None otherwise): its pivots give the inertia at the iterate the step
+        #: started from (`cloth.solvers.stability.factor_inertia`), which relax reports at
+        #: convergence instead of factorising again
+        self.factor = None
+        self.factored_at: Evaluation | None = None  # the iterate ``factor``'s matrix is at
 
     def step(self, problem: Problem, ev: Evaluation) -> Step:
         if self.reuse is not None:  # inexact Newton: a solve as exact as the residual asks
             self.reuse.rtol = max(KRYLOV_RTOL, min(KRYLOV_LOOSEST, FORCING * ev.residual))
-        new, move, ok = newton_step(problem, ev, self.solver, self.reuse)
+        kept: list = []
+        new, move, ok = newton_step(problem, ev, self.solver, self.reuse, kept)
+        self.factor = kept[-1] if kept else None
+        self.factored_at = ev
         return Step(new, move, ok)
 
 
 def newton_step(
-    problem: Problem, ev: Evaluation, solver: str, reuse: Reuse | None = None
-) -> tuple[Evaluation, float, bool]:
-    """One Newton iteration with line search: (new evaluation, largest move in m, accepted)."""
+    problem: Problem, ev: Evaluation, solver: str, reuse: Reuse | None = None,
+    kept: list | None = None,
+) -> tuple[Evaluation, float, bool]:  # fmt: skip
+    """One Newton iteration with line search: (new evaluation, largest move in m, accepted);
+    ``kept`` gets SuperLU's factor of the exact matrix where the move came from one."""
     k = stiffness_at(problem, ev)
     held = held_nodes(problem, ev, k)
     if isinstance(problem.body, MeshBody) and np.any(held):
@@ -181,7 +192,9 @@ def newton_step(
     tries = (False, True) if solver in INDEFINITE + PRECONDITIONED else (True,)
     for _ in range(KEEP_PASSES):
         projector, _ = problem.basis(ev.x, ev.normal, held)
-        dx, slope = _direction(problem, ev, held, projector, k, solver, tries, reuse)
+        if kept is not None:
+            kept.clear()
+        dx, slope = _direction(problem, ev, held, projector, k, solver, tries, reuse, kept)
         enter = entering(problem, ev, held, dx)
         if not np.any(enter):
             break
@@ -209,6 +222,7 @@ def _direction(
     solver: str,
     tries: tuple[bool, ...],
     reuse: Reuse | None = None,
+    kept: list | None = None,
 ) -> tuple[NDArray[np.float64], float]:
     """The Newton move ((N, 3), m) in the allowed directions (``projector``, (N, 3, 3)) and its
     slope (P R) . dx (J): with the stiffness ``k(project)`` for each of ``tries`` in turn until
@@ -234,8 +248,11 @@ def _direction(
             factorise = functools.cache(
                 lambda: newton_matrix(problem, ev, held, projector, k(True), curvature=False)
             )
-        dx, slope = _solve_step(matrix, rhs, projector, solver, reuse, factorise)
+        exact = None if project or kept is None else []
+        dx, slope = _solve_step(matrix, rhs, projector, solver, reuse, factorise, exact)
         if slope > 0:
+            if exact:
+                kept.append(exact[0])
             return dx, slope
         if np.all(np.isfinite(dx)) and np.any(dx):
             step = dx.ravel()
@@ -296,11 +313,13 @@ def _solve_step(
     solver: str,
     reuse: Reuse | None = None,
     factorise: Factorise | None = None,
+    factor: list | None = None,
 ) -> tuple[NDArray[np.float64], float]:
     """The move ``matrix^-1 rhs`` in the allowed directions ((N, 3), m) and its slope (J); the
-    slope is NaN where the matrix is singular. ``factorise``: `cloth.solvers.linear.solve`'s."""
+    slope is NaN where the matrix is singular. ``factorise``: `cloth.solvers.linear.solve`'s.
+    ``factor`` (a list) gets SuperLU's factor of ``matrix`` itself where the solve made one."""
     try:
-        dx = solve(matrix, rhs, solver, reuse, factorise).reshape(-1, 3)
+        dx = solve(matrix, rhs, solver, reuse, factorise, factor).reshape(-1, 3)
     except RuntimeError:  # SuperLU: "factor is exactly singular"
         return np.zeros((len(rhs) // 3, 3)), float("nan")
     dx = np.einsum("nij,nj->ni", projector, dx)

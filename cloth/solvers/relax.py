@@ -15,12 +15,14 @@ from cloth.bodies import Body
 from cloth.case import Settings
 from cloth.garment.state import State
 from cloth.solvers import lagged
+from cloth.solvers.activeset import held_nodes
 from cloth.solvers.common import Diverged, History
 from cloth.solvers.continuation import start_from_coarse
 from cloth.solvers.explicit import MAX_STEP, Explicit, shortest_rest
 from cloth.solvers.linear import blas_threads, choose, factorisations
-from cloth.solvers.newton import Newton
+from cloth.solvers.newton import SADDLE_RESIDUAL, Newton, stiffness_at
 from cloth.solvers.problem import Evaluation, Problem
+from cloth.solvers.stability import counts, factor_inertia
 from cloth.solvers.stepper import Callback, LogLine, ProgressBar, Step, Stepper
 
 log = logging.getLogger(__name__)
@@ -50,6 +52,7 @@ class Result:
     peak_memory: float = 0.0
     lags: int = 0
     friction: dict[str, NDArray] = field(default_factory=dict)
+    unstable_modes: int | None = None
 
     @classmethod
     def diverged(cls, error: Diverged, final: Evaluation, settings: Settings) -> Result:
@@ -185,8 +188,33 @@ def _relax(
     count = factorisations() - factorised
     peak = peak_memory()
     log.info("%d linear factorisations; peak memory %.0f MiB", count, peak / 2**20)
+    modes = final_inertia(problem, phases, ev, converged)
     return Result(ev, history, converged, iterations, settings.method, solver, seconds, count,
-                  peak, lags, _friction_fields(problem, ev))  # fmt: skip
+                  peak, lags, _friction_fields(problem, ev), modes)  # fmt: skip
+
+
+def final_inertia(problem: Problem, phases: list, ev: Evaluation, converged: bool) -> int | None:
+    """The unstable modes of a converged Newton run from its last step's factor of the exact
+    Newton matrix (`Newton.factor`): the matrix at the iterate before the equilibrium, which
+    has the same inertia where that step started in Newton's quadratic range (relative
+    residual below `SADDLE_RESIDUAL`, so a step of about the tolerance's square root) with the
+    same contact set. None where the run kept no such factor (CHOLMOD, the projected matrix,
+    GMRES on an older factor, a last step from farther away or with another contact set), did
+    not converge, or the count is not defined (`cloth.solvers.stability.counts`): the
+    aggregate stage then factorises at the equilibrium."""
+    newton = next((stepper for stepper, _ in phases if isinstance(stepper, Newton)), None)
+    if not converged or newton is None or newton.factor is None or not counts(problem):
+        return None
+    start = newton.factored_at
+    if start is None or start.residual > SADDLE_RESIDUAL:
+        return None  # the last step started outside the quadratic range: another matrix
+    held = held_nodes(problem, ev, stiffness_at(problem, ev))
+    if not np.array_equal(held, held_nodes(problem, start, stiffness_at(problem, start))):
+        return None  # the contact set changed in the last step: another constrained matrix
+    try:
+        return factor_inertia(newton.factor)
+    except ValueError:
+        return None
 
 
 def _friction_fields(problem: Problem, ev: Evaluation) -> dict[str, NDArray]:

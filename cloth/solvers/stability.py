@@ -35,7 +35,13 @@ def negative_eigenvalues(matrix: sp.spmatrix) -> int:
     ValueError where the matrix is not square or the factorisation had to pivot."""
     if matrix.ndim != 2 or matrix.shape[0] != matrix.shape[1]:
         raise ValueError(f"expected a square (n, n) matrix, got shape {matrix.shape}")
-    factor = _factor(sp.csr_matrix(matrix))
+    return factor_inertia(_factor(sp.csr_matrix(matrix)))
+
+
+def factor_inertia(factor) -> int:
+    """The negative eigenvalues of the symmetric matrix SuperLU's unpivoted ``factor``
+    (`cloth.solvers.linear._factor`) is of: its negative pivots (module docstring). ValueError
+    where SuperLU pivoted rows after all."""
     lu = factor.lu if isinstance(factor, _Permuted) else factor
     if not np.array_equal(lu.perm_r, lu.perm_c):
         raise ValueError(
@@ -45,13 +51,18 @@ def negative_eigenvalues(matrix: sp.spmatrix) -> int:
     return int(np.count_nonzero(lu.U.diagonal() < 0.0))
 
 
+def counts(problem: Problem) -> bool:
+    """Whether `unstable_modes` counts on ``problem``: a smooth body and no skin model."""
+    return not (isinstance(problem.body, MeshBody) or problem.lagged)
+
+
 def unstable_modes(problem: Problem, ev: Evaluation) -> int:
     """The unstable modes of the garment at ``ev`` (an equilibrium, or any state): the negative
     eigenvalues of the exact Newton matrix on the moves its constraints and the body's
     contact allow (module docstring); 0 at a stable equilibrium. Smooth bodies (closed-form,
     the torso, the smooth surfaces of meshes) and no skin model: ValueError for faceted contact
     (``surface: mesh``, whose constraints are face planes) or a tissue layer or friction."""
-    if isinstance(problem.body, MeshBody) or problem.lagged:
+    if not counts(problem):
         raise ValueError(
             "unstable_modes takes a smooth body without tissue or friction (faceted contact and "
             "the skin models change the constrained Hessian)"

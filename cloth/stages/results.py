@@ -65,7 +65,7 @@ def aggregate(relaxed_path: str | Path) -> tuple[xr.Dataset, list]:
         )  # fmt: skip
     result = result.assign(lab_range_variables(state, ev.springs.strain))
     result = result.assign(result_skin_variables(state.grid, ev, ds, problem.tissue))
-    result.attrs["unstable_modes"] = stability(problem, ev)
+    result.attrs["unstable_modes"] = stability(problem, ev, ds.attrs.get("solver_unstable_modes"))
     name = Path(relaxed_path).parent.name
     return result, summary_rows(result, name)
 
@@ -77,7 +77,10 @@ def _estimates(state, marks: list, relaxed: xr.Dataset) -> dict[str, xr.Variable
     grid = (state.grid.n, state.grid.m)
     grids, converged, values = levels.read_levels(relaxed, names)
     found = levels.estimates(marks, grid, grids, values)
-    levels.log_estimates(names, found)
+    if grids:
+        levels.log_estimates(names, found)
+    else:
+        log.info("no coarser levels in %s: the girth lines have no error estimate", grid)
     fine = levels.mark_values([marks], names)
     stacked = {f: np.concatenate([fine[f], values[f]]) if values else fine[f] for f in fine}
     converged = [bool(int(relaxed.attrs.get("solver_converged", 0))), *converged]
@@ -106,20 +109,26 @@ def _resolution(state, body, marks: list) -> dict[str, xr.Variable]:
     return levels.resolution_variables(rows, mesh)
 
 
-def stability(problem: Problem, ev: Evaluation) -> int:
-    """The equilibrium's unstable modes (`cloth.solvers.stability.unstable_modes`; -1 where
-    they are not defined here: faceted contact, tissue, friction; or not found: a matrix
-    SuperLU had to pivot or found singular), with a warning where there are any: the garment
-    is balanced there but would not stay (docs/solvers.md, "Stability")."""
-    try:
-        modes = unstable_modes(problem, ev)
-    except (ValueError, RuntimeError) as exc:
-        log.debug("unstable modes not counted: %s", exc)
-        return -1
+def stability(problem: Problem, ev: Evaluation, counted: int | None = None) -> int:
+    """The equilibrium's unstable modes: ``counted`` by relax from its last factor where it
+    did (relaxed.nc's ``solver_unstable_modes``), else `cloth.solvers.stability.unstable_modes`
+    (one factorisation; -1 where they are not defined: faceted contact, tissue, friction; or
+    not found: a matrix SuperLU had to pivot or found singular). A saddle is warned of with
+    what it means for the numbers (docs/model.md, "Compressed fabric")."""
+    if counted is not None:
+        modes = int(counted)
+    else:
+        try:
+            modes = unstable_modes(problem, ev)
+        except (ValueError, RuntimeError) as exc:
+            log.debug("unstable modes not counted: %s", exc)
+            return -1
     if modes:
         log.warning(
-            "the equilibrium is a saddle: %d unstable mode%s (compressed fabric, which buckles "
-            "without a bending stiffness; docs/solvers.md, Stability)", modes,
+            "the equilibrium is a saddle: %d unstable mode%s. The garment is balanced there but "
+            "would not stay: a nearby state of lower energy exists, and another solver path may "
+            "end on it, so the reported pressures are those of one balanced state, not the "
+            "garment's settled one (docs/model.md, Compressed fabric)", modes,
             "" if modes == 1 else "s",
         )  # fmt: skip
     return modes
