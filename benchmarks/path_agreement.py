@@ -23,7 +23,7 @@ from cloth.stages.case import run_case
 ROOT = Path(__file__).resolve().parents[1]
 QUANTITIES = ("pressure_mean", "pressure_max", "pressure_min", "tension_mean")
 PATHS = {
-    "plain": {"method": "newton"},
+    "plain": {"method": "newton", "continuation": False, "reuse": False},
     "continuation+reuse": {"method": "newton", "continuation": True, "reuse": True},
 }
 
