@@ -16,7 +16,7 @@ from cloth.materials.curves import Fabric, StressStrainCurve
 def make_fabric(thickness: float = 5.0e-4, compression: float | None = None) -> Fabric:
     """A J-shaped elastane-knit-like fabric: weft softer than warp (numbers illustrative);
     ``compression``: its compression modulus as a fraction of each curve's first slope
-    (default the library's: 0, a pure tension field)."""
+    (default the library's, 1 %; 0 a pure tension field)."""
     weft_slope, warp_slope = 0.05e6 / 0.1, 0.12e6 / 0.15
     weft = StressStrainCurve(
         [0.0, 0.1, 0.3, 0.6, 1.0], [0.0, 0.05e6, 0.2e6, 0.6e6, 1.6e6],

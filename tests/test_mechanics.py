@@ -66,10 +66,11 @@ def test_stiffness_is_energy_hessian(fabric, kind, seed, closed):
 
 
 def test_projected_stiffness_is_positive_semidefinite():
-    """With a compression modulus (1 % here) compressed springs soften across and the exact
-    stiffness is indefinite; the projected one is not. The default pure tension field makes the
-    exact one positive semi-definite itself (each spring's energy convex in the positions)."""
-    tension = build_grid(7, 5, 0.3, np.linspace(0, 0.2, 5), make_fabric())
+    """With a compression modulus (1 %, the default) compressed springs soften across and the
+    exact stiffness is indefinite; the projected one is not. A pure tension field (compression
+    modulus 0) makes the exact one positive semi-definite itself (each spring's energy convex
+    in the positions)."""
+    tension = build_grid(7, 5, 0.3, np.linspace(0, 0.2, 5), make_fabric(compression=0.0))
     fabric = make_fabric(compression=0.01)
     grid = build_grid(7, 5, 0.3, np.linspace(0, 0.2, 5), fabric)  # the paper's springs only
     u, v = grid.rest_uv.T

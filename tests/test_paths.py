@@ -1,7 +1,7 @@
 """One answer, whatever the path (issue 29): plain Newton and Newton with continuation and
-factor reuse, the default, report the same garment. With the default pure tension field the
-fabric's energy is convex (docs/model.md, "Compressed fabric"), so both end on one equilibrium:
-every reported quantity agrees to far below its discretisation error."""
+factor reuse report the same garment at CI size, every reported quantity to far below its
+discretisation error. (At 448 x 224 on this band they do not: docs/validation.md, "One answer,
+whatever the path"; so the fast path stays opt-in.)"""
 
 from __future__ import annotations
 
@@ -11,7 +11,6 @@ import numpy as np
 import xarray as xr
 import yaml
 
-from cloth.pipeline.config import validate_case
 from cloth.stages.case import run_case
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -38,21 +37,9 @@ def _torso(folder: Path, solver: dict) -> xr.Dataset:
         return ds.load()
 
 
-def test_the_default_solver_is_continuation_with_reuse_except_with_friction():
-    base = {"material": "powernet", "body": {"cylinder": {"radius": 0.1}},
-            "garment": {"bottom": 0.1, "top": 0.4, "reduction": 0.2, "grid": [32, 6]}}  # fmt: skip
-    solver = validate_case(base).solver
-    assert solver.continuation and solver.reuse
-    rubbing = validate_case({**base, "contact": {"friction": 0.3}}).solver
-    assert not rubbing.continuation and rubbing.reuse  # friction follows the path from the wrap
-    explicit = validate_case({**base, "solver": {"method": "explicit"}}).solver
-    assert not explicit.continuation  # the paper's method as the paper runs it
-    assert validate_case(base).to_dict()["solver"]["continuation"] is True  # recorded
-
-
-def test_plain_newton_and_the_default_path_report_the_same_garment(tmp_path):
-    plain = _torso(tmp_path / "plain", {"continuation": False, "reuse": False})
-    fast = _torso(tmp_path / "fast", {"coarsest": 1000})
+def test_plain_newton_and_the_fast_path_report_the_same_garment_at_ci_size(tmp_path):
+    plain = _torso(tmp_path / "plain", {})
+    fast = _torso(tmp_path / "fast", {"continuation": True, "reuse": True, "coarsest": 1000})
     assert fast.attrs["solver_continuation"] == 1 and fast.attrs["solver_reuse"] == 1
     assert plain.attrs["converged"] == fast.attrs["converged"] == 1
     for name in REPORTED:

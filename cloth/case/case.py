@@ -171,11 +171,7 @@ class Case:
             tissue = Tissue.from_block(tissue_block, garment.bottom, garment.top)
         contact_block = data.get("contact") or {}
         contact = Contact(contact_block.get("friction", 0.0), contact_block.get("slip_length"))
-        block = data["solver"] = dict(data.get("solver") or {})
-        # the fast path by default where it is one answer: Newton, no friction (docs/solvers.md)
-        block.setdefault("continuation", block.get("method", "newton") == "newton"
-                         and not contact.friction)  # fmt: skip
-        solver = _settings(block)
+        solver = _settings(data.get("solver") or {})
         Skin(tissue, contact).check_solver(solver.method, solver.continuation)
         return cls(
             material=str(data["material"]),

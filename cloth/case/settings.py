@@ -40,6 +40,9 @@ class Settings:
         Keep the factor (SuperLU or CHOLMOD) for the next Newton systems, solved by GMRES
         preconditioned with it (`cloth.solvers.linear.Reuse`); refactorise when GMRES needs
         too many iterations.
+    leave_saddles : bool
+        Where Newton converges to a saddle, move along its unstable modes and converge again
+        (`cloth.solvers.saddle`); off by default.
     blas_threads : int or None
         Threads each BLAS library may use while relaxing (None: the libraries' own choice).
         1 by default: numpy's OpenBLAS and CHOLMOD's spin-wait against each other and against
@@ -56,6 +59,7 @@ class Settings:
     continuation: bool = False
     coarsest: int = 5000
     reuse: bool = False
+    leave_saddles: bool = False
     blas_threads: int | None = 1
 
     def __post_init__(self) -> None:

@@ -14,13 +14,12 @@ from numpy.typing import NDArray
 from cloth.bodies import Body
 from cloth.case import Settings
 from cloth.garment.state import State
-from cloth.solvers import lagged
-from cloth.solvers.activeset import held_nodes
+from cloth.solvers import lagged, saddle
 from cloth.solvers.common import Diverged, History
 from cloth.solvers.continuation import start_from_coarse
 from cloth.solvers.explicit import MAX_STEP, Explicit, shortest_rest
 from cloth.solvers.linear import blas_threads, choose, factorisations
-from cloth.solvers.newton import SADDLE_RESIDUAL, Newton, stiffness_at
+from cloth.solvers.newton import Newton
 from cloth.solvers.problem import Evaluation, Problem
 from cloth.solvers.stability import counts, factor_inertia
 from cloth.solvers.stepper import Callback, LogLine, ProgressBar, Step, Stepper
@@ -131,6 +130,7 @@ def _relax(
     peak = max(ev.energy, 1e-300)
     phases = _phases(problem, settings, solver)
     iterations, lags, change = 0, 0, 0.0
+    modes, escapes = None, 0
     with ProgressBar(sum(count for _, count in phases), settings) as bar:
         listeners = [Recorder(history, problem), bar, LogLine(settings.log_every), *callbacks]
         while True:
@@ -152,7 +152,29 @@ def _relax(
                         )  # fmt: skip
                         break
             if not problem.lagged:
-                break
+                newton = _newton(phases)
+                if ev.residual > settings.tolerance or newton is None or not counts(problem):
+                    break
+                if not settings.leave_saddles:  # counted from the run's own factor, if valid
+                    kept = saddle.kept_factor(problem, newton, ev)
+                    modes = None if kept is None else _inertia(kept)
+                    break
+                factor = saddle.equilibrium_factor(problem, ev, newton)
+                modes = _inertia(factor)
+                if not modes or escapes >= saddle.MAX_ESCAPES:
+                    break
+                moved = saddle.downhill(problem, ev, factor)
+                if moved is None:
+                    break
+                escapes += 1
+                log.warning(
+                    "%s: the equilibrium is a saddle (%d unstable modes); moving along them "
+                    "and converging again (%d of at most %d)", newton.name, modes, escapes,
+                    saddle.MAX_ESCAPES,
+                )  # fmt: skip
+                ev, newton.factor = moved, None
+                phases = [(newton, settings.max_iterations)]
+                continue
             # the skin models' lagged quantities from this solution, and solve again
             problem, change = lagged.relag(problem, ev)
             ev = problem.evaluate(ev.x)
@@ -188,31 +210,24 @@ def _relax(
     count = factorisations() - factorised
     peak = peak_memory()
     log.info("%d linear factorisations; peak memory %.0f MiB", count, peak / 2**20)
-    modes = final_inertia(problem, phases, ev, converged)
+    modes = modes if converged else None
+    if escapes:
+        (log.info if modes == 0 else log.warning)(
+            "left %d saddle%s: the equilibrium has %s unstable modes", escapes,
+            "" if escapes == 1 else "s", modes,
+        )  # fmt: skip
     return Result(ev, history, converged, iterations, settings.method, solver, seconds, count,
                   peak, lags, _friction_fields(problem, ev), modes)  # fmt: skip
 
 
-def final_inertia(problem: Problem, phases: list, ev: Evaluation, converged: bool) -> int | None:
-    """The unstable modes of a converged Newton run from its last step's factor of the exact
-    Newton matrix (`Newton.factor`): the matrix at the iterate before the equilibrium, which
-    has the same inertia where that step started in Newton's quadratic range (relative
-    residual below `SADDLE_RESIDUAL`, so a step of about the tolerance's square root) with the
-    same contact set. None where the run kept no such factor (CHOLMOD, the projected matrix,
-    GMRES on an older factor, a last step from farther away or with another contact set), did
-    not converge, or the count is not defined (`cloth.solvers.stability.counts`): the
-    aggregate stage then factorises at the equilibrium."""
-    newton = next((stepper for stepper, _ in phases if isinstance(stepper, Newton)), None)
-    if not converged or newton is None or newton.factor is None or not counts(problem):
-        return None
-    start = newton.factored_at
-    if start is None or start.residual > SADDLE_RESIDUAL:
-        return None  # the last step started outside the quadratic range: another matrix
-    held = held_nodes(problem, ev, stiffness_at(problem, ev))
-    if not np.array_equal(held, held_nodes(problem, start, stiffness_at(problem, start))):
-        return None  # the contact set changed in the last step: another constrained matrix
+def _newton(phases: list) -> Newton | None:
+    return next((stepper for stepper, _ in phases if isinstance(stepper, Newton)), None)
+
+
+def _inertia(factor) -> int | None:
+    """The unstable modes `factor_inertia` counts from ``factor``; None where it pivoted."""
     try:
-        return factor_inertia(newton.factor)
+        return factor_inertia(factor)
     except ValueError:
         return None
 

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import numpy as np
 import scipy.sparse as sp
+from numpy.typing import NDArray
 
 from cloth.bodies import MeshBody
 from cloth.solvers.activeset import held_nodes
@@ -49,6 +50,30 @@ def factor_inertia(factor) -> int:
             "inertia; shift the matrix slightly"
         )
     return int(np.count_nonzero(lu.U.diagonal() < 0.0))
+
+
+def negative_direction(factor, size: int) -> NDArray[np.float64] | None:
+    """A move ((size,)) of negative curvature of the symmetric matrix A of SuperLU's unpivoted
+    ``factor``, from its negative pivots (None where it has none, or pivoted). With P A P^T =
+    L D L^T (the factor's U is D L^T), the vectors y_i with L^T y_i = e_i for the negative
+    pivots d_i are A-conjugate with y_i^T (P A P^T) y_i = d_i, so their sum, mapped back by P,
+    has curvature sum_i d_i < 0 and spans every unstable mode at once. One solve with the
+    factor gives it: A^-1 P^T L (sum_i d_i e_i) = P^T sum_i y_i."""
+    lu = factor.lu if isinstance(factor, _Permuted) else factor
+    if not np.array_equal(lu.perm_r, lu.perm_c):
+        return None
+    pivots = lu.U.diagonal()
+    negative = np.flatnonzero(pivots < 0.0)
+    if negative.size == 0:
+        return None
+    rhs = lu.L.tocsc()[:, negative] @ pivots[negative]
+    permute = sp.csc_matrix((np.ones(size), (np.arange(size), lu.perm_c)), shape=(size, size))
+    inner = lu.solve(permute @ rhs)
+    if not isinstance(factor, _Permuted):
+        return inner
+    move = np.empty(size)
+    move[factor.order] = inner
+    return move
 
 
 def counts(problem: Problem) -> bool:

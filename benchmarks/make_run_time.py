@@ -1,0 +1,69 @@
+"""`make run`'s wall time at two revisions, side by side in one run on this machine: each revision
+cloned to a temporary folder and its default pipeline (``snakemake --cores 2`` on
+config/config.yaml, the work of ``make run`` with the install excluded: both use this checkout's
+.venv) run ``--repeat`` times, alternating; prints the median of each and their ratio.
+
+    .venv/bin/python benchmarks/make_run_time.py BEFORE AFTER [--repeat 1] [--config PATH]
+
+BEFORE and AFTER are git revisions of this repository (e.g. ``a757ceb HEAD``). A revision's
+outputs stay in its clone until the script ends.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def clone(revision: str, where: Path) -> Path:
+    folder = where / revision.replace("/", "_")
+    subprocess.run(["git", "clone", "-q", str(ROOT), str(folder)], check=True)
+    subprocess.run(["git", "-C", str(folder), "checkout", "-q", revision], check=True)
+    return folder
+
+
+def run(folder: Path, config: str) -> float:
+    """One pipeline run from nothing (its results and Snakemake's records removed), seconds."""
+    subprocess.run(["rm", "-rf", "results", ".snakemake"], cwd=folder, check=True)
+    env = {**os.environ, "PYTHONPATH": str(folder), "MPLBACKEND": "Agg",
+           "PATH": f"{ROOT / '.venv' / 'bin'}:{os.environ['PATH']}"}  # fmt: skip
+    start = time.perf_counter()
+    done = subprocess.run(
+        [str(ROOT / ".venv/bin/snakemake"), "--cores", "2", "--configfile", config, "-q"],
+        cwd=folder, env=env, capture_output=True, text=True,
+    )  # fmt: skip
+    if done.returncode:
+        sys.exit(f"{folder.name}: the pipeline failed:\n{done.stderr[-2000:]}")
+    return time.perf_counter() - start
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("revisions", nargs=2)
+    parser.add_argument("--repeat", type=int, default=1)
+    parser.add_argument("--config", default="config/config.yaml")
+    args = parser.parse_args()
+    with tempfile.TemporaryDirectory() as tmp:
+        folders = [clone(r, Path(tmp)) for r in args.revisions]
+        times: dict[str, list[float]] = {r: [] for r in args.revisions}
+        for _ in range(args.repeat):
+            for revision, folder in zip(args.revisions, folders, strict=True):
+                times[revision].append(run(folder, args.config))
+                print(f"{revision}: {times[revision][-1]:.1f} s", flush=True)
+    before, after = (statistics.median(times[r]) for r in args.revisions)
+    print(f"\n| revision | median wall time [s] (of {args.repeat}) |\n|---|---|")
+    for revision in args.revisions:
+        print(f"| {revision} | {statistics.median(times[revision]):.1f} |")
+    print(f"\nafter / before: {after / before:.2f}")
+
+
+if __name__ == "__main__":
+    main()
