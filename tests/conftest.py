@@ -60,6 +60,30 @@ def capped_cylinder(radius: float, height: float, segments: int, bottom: float =
     return vertices, np.concatenate(faces)
 
 
+def run_result(folder, case: dict, stop: str = "aggregate"):
+    """Run ``case`` (a case mapping; relative paths from the repository) up to ``stop`` in
+    ``folder``/out, its case.yaml in ``folder``: the output folder."""
+    from pathlib import Path
+
+    import yaml
+
+    from cloth.stages.case import run_case
+
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    (folder / "case.yaml").write_text(yaml.safe_dump(case))
+    run_case(folder / "case.yaml", folder / "out", {}, Path(__file__).resolve().parents[1],
+             stop_after=stop)  # fmt: skip
+    return folder / "out"
+
+
+def load_result(folder, case: dict):
+    """`run_result` to the aggregate stage, and its result.nc loaded."""
+    import xarray as xr
+
+    return xr.load_dataset(run_result(folder, case) / "result.nc")
+
+
 @pytest.fixture
 def fabric() -> Fabric:
     return make_fabric()

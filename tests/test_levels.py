@@ -12,7 +12,6 @@ from pathlib import Path
 import numpy as np
 import pytest
 import xarray as xr
-import yaml
 
 from cloth.bodies.torso import chart_size, torso_mesh
 from cloth.errors import InputError
@@ -21,10 +20,9 @@ from cloth.files.material import load_fabric
 from cloth.io import write_netcdf
 from cloth.pipeline.config import validate_case
 from cloth.results.resolution import mesh_spacing, row_spacing
-from cloth.stages.case import run_case
 from cloth.stages.levels import coarser_grids
 from cloth.stages.results import write_result
-from tests.conftest import capped_cylinder
+from tests.conftest import capped_cylinder, load_result, run_result
 
 ROOT = Path(__file__).resolve().parents[1]
 CONE = {"cone": {"radius_bottom": 0.13, "radius_top": 0.09, "bottom": 0.0, "top": 0.5}}
@@ -39,10 +37,7 @@ def _cone(folder: Path, grid: list[int], estimate: bool = True, stop: str = "agg
         "garment": {"bottom": 0.1, "top": 0.4, "reduction": 0.15, "lengthwise_reduction": 0.1,
                     "grid": grid, "error_estimate": estimate},
     }  # fmt: skip
-    folder.mkdir(parents=True, exist_ok=True)
-    (folder / "case.yaml").write_text(yaml.safe_dump(case))
-    run_case(folder / "case.yaml", folder / "out", {}, ROOT, stop_after=stop)
-    return folder / "out"
+    return run_result(folder, case, stop)
 
 
 @pytest.fixture(scope="module")
@@ -134,11 +129,7 @@ def _cylinder_auto(folder: Path, accuracy: float, max_nodes: int) -> xr.Dataset:
         "garment": {"bottom": 0.1, "top": 0.4, "reduction": 0.2, "grid": "auto",
                     "accuracy": accuracy, "max_nodes": max_nodes},
     }  # fmt: skip
-    folder.mkdir(parents=True, exist_ok=True)
-    (folder / "case.yaml").write_text(yaml.safe_dump(case))
-    run_case(folder / "case.yaml", folder / "out", {}, ROOT, stop_after="aggregate")
-    with xr.open_dataset(folder / "out" / "result.nc") as ds:
-        return ds.load()
+    return load_result(folder, case)
 
 
 def test_an_automatic_grid_refines_until_its_stated_error_meets_the_accuracy(tmp_path):

@@ -7,12 +7,10 @@ from pathlib import Path
 
 import pytest
 import xarray as xr
-import yaml
 
-from cloth.stages.case import run_case
+from tests.conftest import load_result
 
 pytestmark = pytest.mark.slow
-ROOT = Path(__file__).resolve().parents[1]
 
 
 def _torso(folder: Path, grid: list[int], estimate: bool) -> xr.Dataset:
@@ -22,11 +20,7 @@ def _torso(folder: Path, grid: list[int], estimate: bool) -> xr.Dataset:
                     "error_estimate": estimate},
         "solver": {"method": "newton", "continuation": True, "reuse": True},
     }  # fmt: skip
-    folder.mkdir(parents=True)
-    (folder / "case.yaml").write_text(yaml.safe_dump(case))
-    run_case(folder / "case.yaml", folder / "out", {}, ROOT, stop_after="aggregate")
-    with xr.open_dataset(folder / "out" / "result.nc") as ds:
-        return ds.load()
+    return load_result(folder, case)
 
 
 def test_the_torsos_stated_errors_contain_the_value_of_a_grid_eight_times_finer(tmp_path):

@@ -9,11 +9,9 @@ from pathlib import Path
 
 import numpy as np
 import xarray as xr
-import yaml
 
-from cloth.stages.case import run_case
+from tests.conftest import load_result
 
-ROOT = Path(__file__).resolve().parents[1]
 #: Relative agreement asked: the solvers' tolerance (1e-8 of the spring forces) moves a reported
 #: value by about that much; the discretisation error stated beside it is 1e-2 to 1e-1.
 AGREE = 1e-6
@@ -30,11 +28,7 @@ def _torso(folder: Path, solver: dict) -> xr.Dataset:
                     "error_estimate": False},
         "solver": solver,
     }  # fmt: skip
-    folder.mkdir(parents=True)
-    (folder / "case.yaml").write_text(yaml.safe_dump(case))
-    run_case(folder / "case.yaml", folder / "out", {}, ROOT, stop_after="aggregate")
-    with xr.open_dataset(folder / "out" / "result.nc") as ds:
-        return ds.load()
+    return load_result(folder, case)
 
 
 def test_plain_newton_and_the_fast_path_report_the_same_garment_at_ci_size(tmp_path):
