@@ -170,6 +170,7 @@ class Newton:
         if self.reuse is not None:  # inexact Newton: a solve as exact as the residual asks
             self.reuse.rtol = max(KRYLOV_RTOL, min(KRYLOV_LOOSEST, FORCING * ev.residual))
         kept: list = []
+        self.factor = None  # let the last step's factor go before this step's is built (memory)
         new, move, ok = newton_step(problem, ev, self.solver, self.reuse, kept)
         self.factor = kept[-1] if kept else None
         self.factored_at = ev
