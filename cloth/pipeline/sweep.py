@@ -138,7 +138,7 @@ def sweep_rows(ds: xr.Dataset) -> list[dict[str, object]]:
             continue
         row = {**where, "pressure_mean_Pa": float(at["pressure_mean"]),
                "pressure_mean_mmHg": float(at["pressure_mean"]) / MMHG,
-               "pressure_mean_error_mmHg": _error(at) / MMHG,
+               "pressure_mean_error_mmHg": float(mean_error(at)) / MMHG,
                "pressure_max_mmHg": float(at["pressure_max"]) / MMHG,
                "tension_mean_N_per_m": float(at["tension_mean"]),
                "converged": int(at["converged"])}  # fmt: skip
@@ -150,9 +150,13 @@ def sweep_rows(ds: xr.Dataset) -> list[dict[str, object]]:
     return rows
 
 
-def _error(at: xr.Dataset) -> float:
-    """The stated error of a selection's mean pressure (Pa; NaN in a sweep without one)."""
-    return float(at["pressure_mean_error"]) if "pressure_mean_error" in at else float("nan")
+def mean_error(ds: xr.Dataset) -> xr.DataArray:
+    """The stated error of the mean pressure of a sweep or result dataset (Pa): its
+    ``pressure_mean_error``, or NaN shaped like ``pressure_mean`` in a file written without
+    error estimates."""
+    if "pressure_mean_error" in ds:
+        return ds["pressure_mean_error"]
+    return xr.full_like(ds["pressure_mean"], np.nan, dtype=float)
 
 
 def write_rows(rows: list[dict[str, object]], path: str | Path, header: list[str]) -> Path:
@@ -213,17 +217,11 @@ def design(ds: xr.Dataset, targets: list[dict]) -> list[dict[str, object]]:
             else:
                 order = np.argsort(p[ok])
                 reduction = float(np.interp(goal, p[ok][order], reductions[ok][order]))
-                errors = _errors(ds, where, landmark)[ok]
+                errors = mean_error(ds).sel(where | {"landmark": landmark}).values[ok]
                 row.update(reduction=reduction, status="ok")
                 row.update(reduction_interval(reductions[ok], p[ok], errors, reduction))
             rows.append(row)
     return rows
-
-
-def _errors(ds: xr.Dataset, where: dict, landmark: str) -> np.ndarray:
-    if "pressure_mean_error" not in ds:
-        return np.full(ds.sizes["reduction"], np.nan)
-    return ds["pressure_mean_error"].sel(where | {"landmark": landmark}).values
 
 
 def reduction_interval(
@@ -280,8 +278,7 @@ def confirm(
             ds = read_netcdf(next(paths), "result", ("pressure_mean",))
             confirmed = float(ds["pressure_mean"].sel(landmark=row["landmark"]))
             goal = float(row["target_Pa"])
-            error = ds["pressure_mean_error"] if "pressure_mean_error" in ds else None
-            stated = float("nan") if error is None else float(error.sel(landmark=row["landmark"]))
+            stated = float(mean_error(ds).sel(landmark=row["landmark"]))
             record.update(
                 confirmed_Pa=confirmed,
                 confirmed_mmHg=confirmed / MMHG,
@@ -318,8 +315,7 @@ def plot_design(ds: xr.Dataset, targets: list[dict], path: str | Path) -> Path:
                 [str(v) for v in where.values()]
                 + [Variant.of({d: v for d, v in first.items()}).label()]
             ).strip(", ")
-            error = ds["pressure_mean_error"] if "pressure_mean_error" in ds else line * np.nan
-            bars = error.sel(where | first | {"landmark": landmark}).values / MMHG
+            bars = mean_error(ds).sel(where | first | {"landmark": landmark}).values / MMHG
             drawn = ax.errorbar(percent, line.values, yerr=np.nan_to_num(bars), fmt="o-",
                                 capsize=2, label=label).lines[0]  # fmt: skip
             for hatch, dim in zip(("", "//", ".."), variants, strict=False):
