@@ -23,9 +23,9 @@ import numpy as np
 from cloth.solvers.activeset import held_nodes
 from cloth.solvers.explicit import shortest_rest
 from cloth.solvers.linear import _factor
-from cloth.solvers.newton import SADDLE_RESIDUAL, Newton, newton_matrix, stiffness_at
+from cloth.solvers.newton import SADDLE_RESIDUAL, Newton, stiffness_at
 from cloth.solvers.problem import Evaluation, Problem
-from cloth.solvers.stability import negative_direction
+from cloth.solvers.stability import exact_matrix, negative_direction
 
 log = logging.getLogger(__name__)
 
@@ -58,12 +58,7 @@ def equilibrium_factor(problem: Problem, ev: Evaluation, newton: Newton | None):
     """SuperLU's unpivoted factor of the exact constrained Newton matrix at ``ev``: the run's
     own (`kept_factor`) or a fresh one (one factorisation, counted)."""
     kept = kept_factor(problem, newton, ev)
-    if kept is not None:
-        return kept
-    k = stiffness_at(problem, ev)
-    held = held_nodes(problem, ev, k)
-    projector, _ = problem.basis(ev.x, ev.normal, held)
-    return _factor(newton_matrix(problem, ev, held, projector, k(False)))
+    return kept if kept is not None else _factor(exact_matrix(problem, ev))
 
 
 def downhill(problem: Problem, ev: Evaluation, factor) -> Evaluation | None:

@@ -39,12 +39,19 @@ def negative_eigenvalues(matrix: sp.spmatrix) -> int:
     return factor_inertia(_factor(sp.csr_matrix(matrix)))
 
 
+def _unpivoted(factor):
+    """SuperLU's own LU of ``factor`` (`cloth.solvers.linear._factor`), or None where it
+    pivoted rows after all (an exactly zero pivot): its pivots are then no congruence."""
+    lu = factor.lu if isinstance(factor, _Permuted) else factor
+    return lu if np.array_equal(lu.perm_r, lu.perm_c) else None
+
+
 def factor_inertia(factor) -> int:
     """The negative eigenvalues of the symmetric matrix SuperLU's unpivoted ``factor``
     (`cloth.solvers.linear._factor`) is of: its negative pivots (module docstring). ValueError
     where SuperLU pivoted rows after all."""
-    lu = factor.lu if isinstance(factor, _Permuted) else factor
-    if not np.array_equal(lu.perm_r, lu.perm_c):
+    lu = _unpivoted(factor)
+    if lu is None:
         raise ValueError(
             "SuperLU pivoted rows (an exactly zero pivot), so its pivots do not give the "
             "inertia; shift the matrix slightly"
@@ -59,8 +66,8 @@ def negative_direction(factor, size: int) -> NDArray[np.float64] | None:
     pivots d_i are A-conjugate with y_i^T (P A P^T) y_i = d_i, so their sum, mapped back by P,
     has curvature sum_i d_i < 0 and spans every unstable mode at once. One solve with the
     factor gives it: A^-1 P^T L (sum_i d_i e_i) = P^T sum_i y_i."""
-    lu = factor.lu if isinstance(factor, _Permuted) else factor
-    if not np.array_equal(lu.perm_r, lu.perm_c):
+    lu = _unpivoted(factor)
+    if lu is None:
         return None
     pivots = lu.U.diagonal()
     negative = np.flatnonzero(pivots < 0.0)
@@ -92,7 +99,13 @@ def unstable_modes(problem: Problem, ev: Evaluation) -> int:
             "unstable_modes takes a smooth body without tissue or friction (faceted contact and "
             "the skin models change the constrained Hessian)"
         )
+    return negative_eigenvalues(exact_matrix(problem, ev))
+
+
+def exact_matrix(problem: Problem, ev: Evaluation) -> sp.csr_matrix:
+    """The exact constrained Newton matrix at ``ev`` ((3N, 3N), N/m): the one whose negative
+    eigenvalues are the unstable modes (module docstring)."""
     k = stiffness_at(problem, ev)
     held = held_nodes(problem, ev, k)
     projector, _ = problem.basis(ev.x, ev.normal, held)
-    return negative_eigenvalues(newton_matrix(problem, ev, held, projector, k(False)))
+    return newton_matrix(problem, ev, held, projector, k(False))
