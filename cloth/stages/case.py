@@ -121,26 +121,25 @@ def relax_state(state, overrides: dict, output: Path, previous: dict | None = No
         ) from None
     ds = relaxed_dataset(state, result, settings, previous)
     relaxed = state.with_positions(result.final.x)
+    heights = landmark_heights(relaxed)
     if refined is not None:
-        ds = ds.assign(levels_dataset(relaxed, refined.levels))
+        ds = ds.assign(levels_dataset(refined.levels, heights))
         ds.attrs.update(
             grid_auto=1, grid_accuracy=garment.accuracy, grid_max_nodes=garment.max_nodes,
             grid_met=refined.met, grid_worst_error=refined.worst,
         )  # fmt: skip
     elif garment.error_estimate:
-        heights = landmark_heights(relaxed)
         levels = relax_levels(relaxed, body, settings, heights, LEVELS)
-        ds = ds.assign(levels_dataset(relaxed, levels))
+        ds = ds.assign(levels_dataset(levels, heights))
     write_netcdf(ds, output)
     log.info("wrote %s", output)
 
 
-def levels_dataset(relaxed: State, levels: list[Level]) -> xr.Dataset:
+def levels_dataset(levels: list[Level], heights: dict[str, float]) -> xr.Dataset:
     """relaxed.nc's level variables (`cloth.files.levels`) of ``levels``, along the relaxed
-    state's girth lines (none without levels)."""
+    state's girth lines ``heights`` (name -> m; none without levels)."""
     if not levels:
         return xr.Dataset()
-    heights = landmark_heights(relaxed)
     names = sorted(heights, key=heights.__getitem__)
     values = mark_values([level.marks for level in levels], names)
     variables = level_variables([lv.grid for lv in levels], [lv.converged for lv in levels], values)

@@ -1,13 +1,13 @@
 """Grid levels: the case's garment relaxed again on coarser grids, for the error estimate.
 
-A case of n x m nodes is relaxed on its own grid and on ``garment.levels`` coarser ones (2 by
-default), each halving n and m (rounded up: 48 x 24 -> 24 x 12 -> 12 x 6), down to at least
-`MIN_AROUND` nodes around and `MIN_ROWS` rows. A level is the case itself with the coarser
-grid, pre-deformed on the same body and fabric and relaxed with the same settings: exactly what
-a user would get by asking for that grid. Each level's girth lines are summarised at the same
-heights as the fine grid's (`cloth.results.landmarks`), and `cloth.results.richardson` turns the
-three finest values into the reported value's order, extrapolation and error
-(`cloth.files.levels` writes them).
+A case of n x m nodes (with ``garment.error_estimate``, the default) is relaxed on its own grid
+and on `LEVELS` (2) coarser ones, each halving n and m (rounded up: 48 x 24 -> 24 x 12 -> 12 x
+6), down to at least `MIN_AROUND` nodes around and `MIN_ROWS` rows. A level is the case itself
+with the coarser grid, pre-deformed on the same body and fabric and relaxed with the same
+settings: exactly what a user would get by asking for that grid. Each level's girth lines are
+summarised at the same heights as the fine grid's (`cloth.results.landmarks`), and
+`cloth.results.richardson` turns the three finest values into the reported value's order,
+extrapolation and error (`cloth.files.levels` writes them).
 
 Continuation's own levels are not these: they keep a subset of the fine grid's rows, unevenly
 spaced where m - 1 is odd (a pattern a user could not ask for), and are relaxed only to 1e-6.
@@ -161,10 +161,11 @@ def refine(start: State, body: Body, settings: Settings, accuracy: float, cap: i
                         "before", state.grid.n, state.grid.m, failure)  # fmt: skip
             break
         runs = [*runs[-2:], (state, result)]
-        levels = _levels(runs)
+        heights = landmark_heights(state.with_positions(result.final.x))
+        levels = _levels(runs, heights)
         if len(levels) == 2:
             grid = (state.grid.n, state.grid.m)
-            worst, which = worst_error(grid, _marks(state, result), levels)
+            worst, which = worst_error(grid, girth_marks(state, result.final, heights), levels)
             log.info("grid auto: %d x %d, largest stated error of a girth-line mean %.3g %% "
                      "(%s; asked %.3g %%)", *grid, 100 * worst, which, 100 * accuracy)  # fmt: skip
             if worst <= accuracy:
@@ -181,18 +182,12 @@ def refine(start: State, body: Body, settings: Settings, accuracy: float, cap: i
             break
         state = predeform(start.case, start.fabric, body, start.body, grid=(n, m))
     state, result = runs[-1]
-    return Refined(state, result, _levels(runs), met, worst)
-
-
-def _marks(state: State, result: Result) -> tuple[Landmark, ...]:
     heights = landmark_heights(state.with_positions(result.final.x))
-    return girth_marks(state, result.final, heights)
+    return Refined(state, result, _levels(runs, heights), met, worst)
 
 
-def _levels(runs: list[tuple[State, Result]]) -> list[Level]:
-    """The levels below the last of ``runs`` (finest first), summarised at its heights."""
-    state, result = runs[-1]
-    heights = landmark_heights(state.with_positions(result.final.x))
+def _levels(runs: list[tuple[State, Result]], heights: dict[str, float]) -> list[Level]:
+    """The levels below the last of ``runs`` (finest first), summarised at its ``heights``."""
     return [
         Level((s.grid.n, s.grid.m), girth_marks(s, r.final, heights), r.converged, r.seconds)
         for s, r in reversed(runs[:-1])
