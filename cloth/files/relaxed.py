@@ -13,7 +13,7 @@ run, coarse levels included), ``solver_continuation`` (0/1) and ``solver_coarses
 coarsest level's node limit), ``solver_reuse`` (0/1: factorisations kept across Newton
 steps), and ``solver_peak_memory_mib`` (the process's peak resident
 memory at its end, MiB); ``solver_unstable_modes`` where the run counted them from its last
-factor (`cloth.solvers.relax.final_inertia`: the aggregate stage then factorises nothing);
+factor (`cloth.solvers.saddle.kept_factor`: the aggregate stage then factorises nothing);
 with tissue or friction ``solver_lags`` (solves with the skin models' lagged quantities,
 `cloth.solvers.lagged`) and the friction variables of `cloth.files.skin`.
 ``solver_iterations`` and the history are the requested grid's.

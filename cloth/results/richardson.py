@@ -30,7 +30,7 @@ Two equal levels (no change) give order "not observed" too, rather than a made-u
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from scipy.optimize import brentq
 
@@ -121,9 +121,8 @@ def richardson(
         return Estimate.missing(fine, 4)
     order = observed_order(near, far, r21, r32)
     if not ORDERS[0] <= order <= ORDERS[1]:
-        out = Estimate.missing(fine, 5, f"{order:.2g}, not in {ORDERS[0]:g}-{ORDERS[1]:g}")
-        return Estimate(fine, order, out.extrapolated, out.error, False, out.reason,
-                        out.uncertainty, out.code)  # fmt: skip
+        missing = Estimate.missing(fine, 5, f"{order:.2g}, not in {ORDERS[0]:g}-{ORDERS[1]:g}")
+        return replace(missing, order=order)  # the order seen, said with the reason
     error = near / (r21**order - 1.0)
     confirmed = abs(order - SCHEME_ORDER) <= 0.1 * SCHEME_ORDER
     safety = SAFETY_CONFIRMED if confirmed else SAFETY
