@@ -149,8 +149,6 @@ def levels_dataset(levels: list[Level], heights: dict[str, float]) -> xr.Dataset
 def relax_file(initial: Path, output: Path, overrides: dict, force: bool = False) -> None:
     """initial.nc -> relaxed.nc, on the body the file records (no base directory needed); the
     memory check reads the case and body from the file's header before its arrays."""
-    import xarray as xr
-
     try:
         with xr.open_dataset(initial) as head:
             nodes = int(head.attrs["n"]) * int(head.attrs["m"])
