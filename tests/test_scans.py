@@ -50,6 +50,14 @@ def girth_pressures(body: dict, grid: tuple[int, int]):
     state = initial_state(case)
     solid, _ = body_from_config(state.case.body.block)
     result = relax(state, solid, Settings(tolerance=1e-8, max_iterations=100, progress=False))
+    rows_z, means = row_means(result, state)
+    return result, state, {name: float(means[nearest_row(rows_z, h)])
+                           for name, h in heights.items()}  # fmt: skip
+
+
+def row_means(result, state) -> tuple[np.ndarray, np.ndarray]:
+    """Each grid row's mean height (m) and mean pressure (Pa; 0 off the body) at the
+    equilibrium of ``result`` (`girth_pressures`'s)."""
     ev = result.final
     fields = node_fields(
         state.grid, ev.x, ev.springs, state.fabric.thickness, ev.forces, ev.unbalanced,
@@ -58,9 +66,7 @@ def girth_pressures(body: dict, grid: tuple[int, int]):
     rows_z = ev.x.reshape(state.grid.m, state.grid.n, 3)[..., 2].mean(axis=1)
     on = fields.on_body.reshape(state.grid.m, state.grid.n).astype(bool)
     pressure = np.where(on, fields.pressure.reshape(state.grid.m, state.grid.n), 0.0)
-    means = {name: float(pressure[nearest_row(rows_z, h)].mean()) for name, h in heights.items()}
-    state.attrs["row_means"] = (rows_z, pressure.mean(axis=1))  # for a comparison over a window
-    return result, state, means
+    return rows_z, pressure.mean(axis=1)
 
 
 def test_sliding_node_under_an_overhang_is_held():

@@ -11,7 +11,7 @@ import pytest
 
 from cloth.bodies.torso import LANDMARKS, chart_size, torso_mesh
 from tests.conftest import assert_quadratic_tail, write_obj
-from tests.test_scans import girth_pressures
+from tests.test_scans import girth_pressures, row_means
 
 pytestmark = pytest.mark.slow
 
@@ -25,9 +25,10 @@ NOISY_COARSE_BUST = (
 )
 
 
-def window_means(state, heights: dict[str, float], half: dict[str, float]) -> dict[str, float]:
-    """Each line's mean pressure (Pa) over the grid rows within ``half`` (m) of its height."""
-    rows_z, means = state.attrs["row_means"]
+def window_means(run, heights: dict[str, float], half: dict[str, float]) -> dict[str, float]:
+    """Each line's mean pressure (Pa) over the grid rows within ``half`` (m) of its height, at
+    the equilibrium of ``run`` (`girth_pressures`'s result and state)."""
+    rows_z, means = row_means(*run[:2])
     return {name: float(means[np.abs(rows_z - h) <= half[name]].mean())
             for name, h in heights.items()}  # fmt: skip
 
@@ -91,14 +92,14 @@ def test_a_coarse_mesh_is_judged_at_its_own_resolution(tmp_path, smooth_torso_38
     +4.5 %). The same rule fails the 128 x 120 mesh (hip -3.7 %, bust -11.9 %): its 2.4 mm
     window holds the smooth torso's bust spike on one or two rows, so that mesh is compared row
     by row (above)."""
-    result, state, _ = mesh_case(tmp_path, 32, 30, (384, 192))
-    assert result.converged and result.history.residual[-1] <= 1e-8
+    run = mesh_case(tmp_path, 32, 30, (384, 192))
+    assert run[0].converged and run[0].history.residual[-1] <= 1e-8
     chart = chart_size("M")
     heights = {name: chart.height[name] for name in LANDMARKS}
     half = ring_half_spacing(torso_mesh(chart, 32, 30)[0], heights)
     assert all(0.008 < h < 0.011 for h in half.values())
-    mesh = window_means(state, heights, half)
-    smooth = window_means(smooth_torso_384[1], heights, half)
+    mesh = window_means(run, heights, half)
+    smooth = window_means(smooth_torso_384, heights, half)
     for name, value in smooth.items():
         assert mesh[name] == pytest.approx(value, rel=0.05 if name == "bust" else 0.03), name
 
