@@ -32,6 +32,7 @@ from dataclasses import dataclass, field
 from types import MappingProxyType
 from typing import Any
 
+from cloth.case.profile import Profile
 from cloth.case.settings import Settings
 from cloth.case.skin import Contact, Skin, Tissue
 from cloth.errors import InputError
@@ -70,9 +71,9 @@ class GarmentSpec:
     bottom: float
     top: float
     grid: tuple[int, int]
-    reduction: float | None = None
+    reduction: float | Mapping[str, float] | None = None
     circumference: float | None = None
-    lengthwise_reduction: float = 0.0
+    lengthwise_reduction: float | Mapping[str, float] = 0.0
     edges: str = "sliding"
     around: str = "weft"
     offset: float = 1e-4
@@ -95,6 +96,16 @@ class GarmentSpec:
         return self.max_nodes if self.auto else self.grid[0] * self.grid[1]
 
     @property
+    def reduction_profile(self) -> Profile | None:
+        """The graded pattern's reduction (`cloth.case.profile`); None for a rectangle."""
+        return None if self.reduction is None else Profile.of(self.reduction)
+
+    @property
+    def lengthwise_profile(self) -> Profile:
+        """The warp's reduction (`cloth.case.profile`)."""
+        return Profile.of(self.lengthwise_reduction)
+
+    @property
     def moduli(self) -> dict[str, float]:
         """The optional linear springs' moduli (Pa), by key, where given."""
         given = {"shear_modulus": self.shear_modulus, "bend_modulus": self.bend_modulus}
@@ -108,9 +119,9 @@ class GarmentSpec:
             bottom=float(block["bottom"]),
             top=float(block["top"]),
             grid=(0, 0) if auto else (int(block["grid"][0]), int(block["grid"][1])),
-            reduction=block.get("reduction"),
+            reduction=_frozen(block.get("reduction")),
             circumference=block.get("circumference"),
-            lengthwise_reduction=float(block.get("lengthwise_reduction", 0.0)),
+            lengthwise_reduction=_frozen(block.get("lengthwise_reduction", 0.0)),
             edges=block.get("edges", "sliding"),
             around=block.get("around", "weft"),
             offset=float(block.get("offset", 1e-4)),
@@ -184,6 +195,13 @@ class Case:
             ),
             _data=MappingProxyType(data),
         )
+
+
+def _frozen(value: Any) -> Any:
+    """A profile's mapping, read-only with text keys; a number as a float; None as None."""
+    if isinstance(value, Mapping):
+        return MappingProxyType({str(k): float(v) for k, v in value.items()})
+    return None if value is None else float(value)
 
 
 def _settings(block: Mapping[str, Any]) -> Settings:

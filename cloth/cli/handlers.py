@@ -11,6 +11,7 @@ from cloth.bodies.mesh import MeshBody
 from cloth.bodies.surface import FitOptions
 from cloth.errors import InputError
 from cloth.figures.export import export
+from cloth.files.pattern import write_pattern
 from cloth.files.surface import load_or_fit
 from cloth.io import atomic_output, read_netcdf
 from cloth.materials.labtables import IngestOptions
@@ -136,6 +137,11 @@ def _view(args: argparse.Namespace) -> int:
 def _export(args: argparse.Namespace) -> int:
     export(read_netcdf(args.result, "result", ("x", "y", "z")), args.output, args.field)
     log.info("wrote %s", args.output)
+    return 0
+
+
+def _pattern(args: argparse.Namespace) -> int:
+    write_pattern(args.result, args.output, args.cut, args.formats)
     return 0
 
 

@@ -18,6 +18,7 @@ from cloth.cli.handlers import (
     _design,
     _export,
     _material_ingest,
+    _pattern,
     _plot,
     _predeform,
     _relax,
@@ -300,6 +301,25 @@ def build_parser() -> argparse.ArgumentParser:
     exp.add_argument("-o", "--output", type=_path, required=True, help="file: .ply, .vtu, .csv")
     exp.add_argument("--field", default="stress_weft", help="field coloured in the PLY")
     exp.set_defaults(handler=_export)
+
+    pat = commands.add_parser(
+        "pattern", help="result.nc -> the cut pattern: CSV table, SVG and DXF outline (1:1, mm)"
+    )
+    pat.add_argument("result", type=_path, help="result.nc from cloth aggregate")
+    pat.add_argument(
+        "-o", "--output", type=_path, required=True,
+        help="pattern.csv to write; the SVG and DXF get its name with their suffixes",
+    )  # fmt: skip
+    pat.add_argument(
+        "--cut", choices=("two-panel", "tube"), default="two-panel",
+        help="two-panel: the flat width is half the circumference (front and back panels); "
+        "tube: all of it (default: two-panel)",
+    )  # fmt: skip
+    pat.add_argument(
+        "--formats", nargs="+", choices=("csv", "svg", "dxf"), default=["csv", "svg", "dxf"],
+        help="files to write (default: all three; DXF needs the extra pattern: ezdxf)",
+    )  # fmt: skip
+    pat.set_defaults(handler=_pattern)
 
     sw = commands.add_parser("sweep", help="results of a sweep -> sweep.nc, sweep.csv, design plot")
     sw.add_argument(

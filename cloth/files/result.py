@@ -18,17 +18,20 @@ from __future__ import annotations
 
 import csv
 import io as _io
+import json
 import subprocess
 from pathlib import Path
 
 import numpy as np
 import xarray as xr
+from numpy.typing import NDArray
 
 from cloth.files.levels import estimate_columns
 from cloth.files.material import fabric_variables
 from cloth.files.state import CONSTRAINT_MEANINGS, CONTACT_MEANINGS
+from cloth.garment.grid import WEFT
 from cloth.garment.state import State
-from cloth.io import atomic_output, flag_variable, global_attrs, node_variable, to_attr
+from cloth.io import atomic_output, flag_variable, global_attrs, node_variable, to_attr, variable
 from cloth.results.fields import Fields
 from cloth.results.landmarks import LANDMARK_FIELDS, Landmark
 from cloth.results.pressure import MMHG
@@ -133,6 +136,7 @@ def result_dataset(
             "landmark", [m.height for m in marks], {"units": "m", "long_name": "landmark height"}
         ),
     }
+    variables.update(pattern_variables(state))
     for name, (attribute, units, long_name) in LANDMARK_FIELDS.items():
         variables[name] = xr.Variable(
             "landmark", [getattr(m, attribute) for m in marks],
@@ -165,6 +169,42 @@ def result_dataset(
         }
     )
     return xr.Dataset(variables, coords=coords, attrs={k: to_attr(v) for k, v in attrs.items()})
+
+
+def row_attr(state: State, key: str) -> NDArray[np.float64] | None:
+    """A per-row list predeform kept in the state's attributes ((m,) float), or None."""
+    raw = state.attrs.get(key)
+    if raw is None:
+        return None
+    values = np.asarray(json.loads(raw) if isinstance(raw, str) else raw, dtype=float)
+    return values if values.shape == (state.grid.m,) else None
+
+
+def pattern_variables(state: State) -> dict[str, xr.Variable]:
+    """The cut pattern per row (dim ``row``): ``rest_circumference`` (m, the sum of the row's
+    weft rest lengths), ``pattern_height`` (m, the rest warp coordinate v), and where predeform
+    recorded them ``cut_height`` (m, the body height the row was cut for) and
+    ``row_reduction`` (1, the reduction profile there); `cloth pattern` reads them."""
+    grid = state.grid
+    weft = grid.rest_length[grid.family_slices[WEFT]]
+    per_row = weft.reshape(grid.m, -1).sum(axis=1)  # n springs round a tube, n - 1 across
+    out = {
+        "rest_circumference": variable(
+            "row", per_row, "m", "rest circumference of the row (flat width of an open piece)"
+        ),
+        "pattern_height": variable(
+            "row", grid.rest_uv[:: grid.n, 1], "m", "rest warp coordinate of the row"
+        ),
+    }
+    cut = row_attr(state, "cut_height")
+    if cut is not None:
+        out["cut_height"] = variable("row", cut, "m", "body height the row was cut for")
+    reduction = row_attr(state, "row_reduction")
+    if reduction is not None:
+        out["row_reduction"] = variable(
+            "row", reduction, "1", "reduction of the row's rest circumference from the body's girth"
+        )
+    return out
 
 
 def summary_rows(ds: xr.Dataset, case_name: str) -> list[dict[str, object]]:

@@ -1,9 +1,11 @@
 """Pre-deformation: cut a tube pattern and wrap it around the body (the paper's initial state).
 
 Pattern. A tube of n nodes around (the grid's weft) and m rows up, rows at equally spaced heights
-z_j from ``bottom`` to ``top``. Rest circumference of row j: (1 - reduction) x the convex-hull
-girth of the body at z_j (a graded pattern, how compression garments are cut), or a constant
-``circumference`` (a rectangle). Warp rest length: (1 - lengthwise_reduction) (top - bottom)/(m-1).
+z_j from ``bottom`` to ``top``. Rest circumference of row j: (1 - r(z_j)) x the convex-hull
+girth of the body at z_j (a graded pattern, how compression garments are cut; r the reduction,
+a number or a profile over height, `cloth.case.profile`), or a constant ``circumference`` (a
+rectangle). Warp rest length between rows j and j+1: (1 - lengthwise reduction at their
+middle) (z_{j+1} - z_j).
 
 Wrapping. Each row is placed on the convex hull of the body's cross-section at its height (the
 fabric bridges concavities such as the cleavage; with ``loop_point`` only the loop enclosing
@@ -29,6 +31,7 @@ from numpy.typing import NDArray
 from cloth.bodies import Body, hull_polygon, loop_around, polygon_perimeter
 from cloth.bodies.sections import loop_area
 from cloth.case import Case
+from cloth.case.profile import lengthwise_spans
 from cloth.errors import InputError
 from cloth.garment.grid import FIXED, FREE, SLIDING, build_grid
 from cloth.garment.state import State, grid_fabric
@@ -183,21 +186,28 @@ def predeform(
         whole = np.array([body.girth(float(z))[1] for z in heights])
         one_loop = np.isclose(whole, hull_girth, rtol=1e-3)  # else: the largest of several
         hull_girth = np.where(one_loop, whole, hull_girth)
-    if garment.reduction is not None:
-        circumference = (1.0 - garment.reduction) * hull_girth
-    else:
-        circumference = np.full(m, float(garment.circumference))
-    span = (1.0 - garment.lengthwise_reduction) * (garment.top - garment.bottom)
+    marks = {**body_record.get("landmarks", {}), **case.landmarks}
+    profile = garment.reduction_profile
+    try:
+        spans = lengthwise_spans(garment.lengthwise_profile, heights, marks)
+        if profile is not None:
+            row_reduction = profile.evaluate(heights, marks)
+            circumference = (1.0 - row_reduction) * hull_girth
+        else:
+            circumference = np.full(m, float(garment.circumference))
+    except InputError as exc:
+        raise InputError(exc.detail, source, exc.field) from None
+    rest_v = np.concatenate(([0.0], np.cumsum(spans)))
     moduli = garment.moduli
     around = garment.around
     worn = set_strains(garment, fabric, source)
     if worn:  # the set lengthens the pattern in each direction (cloth.garment.worn)
         up = "warp" if around == "weft" else "weft"
         circumference = circumference * (1.0 + worn[around])
-        span *= 1.0 + worn[up]
+        rest_v = rest_v * (1.0 + worn[up])
         log.info("predeform: worn garment, set strain weft %.4g, warp %.4g", *worn.values())
     grid = build_grid(
-        n, m, circumference, np.linspace(0.0, span, m), grid_fabric(fabric, around),
+        n, m, circumference, rest_v, grid_fabric(fabric, around),
         closed=True, **moduli,
     )  # fmt: skip
     offset = garment.offset
@@ -232,6 +242,8 @@ def predeform(
         attrs={
             "offset": offset,
             "hull_girth": hull_girth.tolist(),
+            "cut_height": heights.tolist(),
+            **({} if profile is None else {"row_reduction": row_reduction.tolist()}),
             **{f"set_strain_{d}": s for d, s in worn.items()},
         },
     )

@@ -22,6 +22,8 @@ from cloth.errors import InputError
 from cloth.paths import shown
 
 MESH_ONLY = ("units", "up", "repair", "surface", "smoothing", "spacing", "surface_file")
+#: The garment keys that may be a profile (`cloth.case.profile`).
+PROFILE_KEYS = ("reduction", "lengthwise_reduction")
 
 
 def _finite_number(checker: Any, instance: Any) -> bool:
@@ -43,6 +45,9 @@ def schema_message(error: jsonschema.ValidationError) -> str:
     value = error.instance
     if isinstance(value, float) and not math.isfinite(value):
         return f"{value} is not a finite number; give a finite value (docs/config.md)"
+    branch = _branch_of(error)
+    if branch is not None:
+        return schema_message(branch)
     message = error.message
     if error.validator == "type" and isinstance(value, str) and _number_text(value):
         return (f"{value!r} is text to YAML, not a number; write it with a dot and a signed "
@@ -56,6 +61,20 @@ def schema_message(error: jsonschema.ValidationError) -> str:
     if error.validator == "oneOf" and "description" in error.schema:
         message = f"{shown(value)} is not one of the forms asked: {error.schema['description']}"
     return " ".join(message.split())
+
+
+def _branch_of(error: jsonschema.ValidationError) -> jsonschema.ValidationError | None:
+    """Of a ``oneOf`` the value failed, the branch of the value's own type that it failed
+    (``reduction: 1.2`` is a number too big, not a wrong form), else None."""
+    if error.validator != "oneOf" or not error.context:
+        return None
+    same_type = [e for e in error.context if not (e.validator == "type" and not e.relative_path)]
+    branches = {e.relative_schema_path[0] for e in error.context if e.relative_schema_path}
+    wrong_type = {
+        e.relative_schema_path[0] for e in error.context
+        if e.validator == "type" and not e.relative_path and e.relative_schema_path
+    }  # fmt: skip
+    return same_type[0] if same_type and len(branches - wrong_type) == 1 else None
 
 
 def _number_text(text: str) -> bool:
@@ -99,13 +118,13 @@ def validate_case(case: Case | dict[str, Any], source: str | Path = "case") -> C
         return case
     if not isinstance(case, dict):
         raise InputError("a case must be a mapping of keys to values", source)
+    case = _text_keys(case)
     errors = sorted(
         Validator(case_schema()).iter_errors(case),
         key=lambda e: (len(e.absolute_path), [str(part) for part in e.absolute_path]),
     )
     if errors:
         raise InputError(schema_message(errors[0]), source, _key_path(errors[0]))
-    case = copy.deepcopy(case)
     body = case["body"]
     kinds = [kind for kind in BODY_KINDS if kind in body]
     if len(kinds) != 1:
@@ -157,6 +176,18 @@ def validate_case(case: Case | dict[str, Any], source: str | Path = "case") -> C
         for key in MESH_ONLY:
             body.pop(key, None)
     return Case.from_dict(case, str(source))
+
+
+def _text_keys(case: dict[str, Any]) -> dict[str, Any]:
+    """A copy of ``case`` whose profiles' keys are text: YAML reads a height key (``1.05:``) as
+    a number, and JSON (state files) writes every key as text."""
+    case = copy.deepcopy(case)
+    garment = case.get("garment")
+    if isinstance(garment, dict):
+        for key in PROFILE_KEYS:
+            if isinstance(garment.get(key), dict):
+                garment[key] = {str(k): v for k, v in garment[key].items()}
+    return case
 
 
 def load_case(path: str | Path) -> Case:

@@ -1,0 +1,150 @@
+"""The graded pattern (issue 30, item 1): a reduction profile over height, recorded in result.nc,
+and the cut pattern written by ``cloth pattern`` as CSV, SVG and DXF."""
+
+from __future__ import annotations
+
+import csv
+import subprocess
+import sys
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+import numpy as np
+import pytest
+import xarray as xr
+from scipy.interpolate import PchipInterpolator
+
+from cloth.case.profile import Profile
+from cloth.errors import InputError
+from cloth.files.pattern import write_pattern
+from cloth.pipeline.config import validate_case
+from tests.conftest import load_result, run_result
+
+RADIUS = 0.1
+KNOTS = {"0.15": 0.10, "waist": 0.25, "0.35": 0.15}
+LINES = {"waist": 0.25}
+
+
+def _case(reduction, grid=(24, 11), **garment) -> dict:
+    return {
+        "material": "powernet", "body": {"cylinder": {"radius": RADIUS}}, "landmarks": LINES,
+        "garment": {"bottom": 0.1, "top": 0.4, "reduction": reduction, "grid": list(grid),
+                    "lengthwise_reduction": 0.1, "error_estimate": False, **garment},
+    }  # fmt: skip
+
+
+@pytest.fixture(scope="module")
+def graded(tmp_path_factory) -> tuple[Path, xr.Dataset]:
+    folder = tmp_path_factory.mktemp("graded")
+    return folder, load_result(folder, _case(KNOTS))
+
+
+def test_rows_follow_the_monotone_cubic_through_the_knots(graded):
+    """Each row's recorded reduction is PCHIP through the knots (waist resolved from the case's
+    landmarks), held beyond the end knots; its rest circumference is (1 - r) 2 pi R."""
+    _, ds = graded
+    z = ds["cut_height"].values
+    knots = np.array([0.15, 0.25, 0.35]), np.array([0.10, 0.25, 0.15])
+    expected = PchipInterpolator(*knots)(np.clip(z, 0.15, 0.35))
+    np.testing.assert_allclose(ds["row_reduction"].values, expected, rtol=0, atol=1e-12)
+    assert ds["row_reduction"].values[0] == pytest.approx(0.10) and z[0] < 0.15
+    assert np.all(ds["row_reduction"].values <= 0.25 + 1e-12)  # no overshoot past the knot
+    np.testing.assert_allclose(
+        ds["rest_circumference"].values, (1 - expected) * 2 * np.pi * RADIUS, rtol=1e-12
+    )
+    assert ds["rest_circumference"].attrs["units"] == "m"
+
+
+def test_a_one_knot_profile_is_the_uniform_reduction(tmp_path):
+    """A profile of one knot gives the same garment, to the bit, as the number."""
+    a = load_result(tmp_path / "a", _case({"waist": 0.2}, grid=(12, 5)))
+    b = load_result(tmp_path / "b", _case(0.2, grid=(12, 5)))
+    np.testing.assert_array_equal(a["pressure"].values, b["pressure"].values)
+
+
+def test_the_lengthwise_profile_sets_each_warp_step(tmp_path):
+    lengthwise = {"0.1": 0.0, "0.4": 0.2}
+    ds = load_result(tmp_path, _case(0.2, grid=(12, 7), lengthwise_reduction=lengthwise))
+    z = ds["cut_height"].values
+    middle = 0.5 * (z[1:] + z[:-1])
+    steps = np.diff(ds["pattern_height"].values)
+    reduction = PchipInterpolator([0.1, 0.4], [0.0, 0.2])(middle)
+    np.testing.assert_allclose(steps, np.diff(z) * (1 - reduction), rtol=1e-12)
+
+
+@pytest.mark.parametrize(
+    ("reduction", "field", "words"),
+    [
+        ({"ankle": 0.2}, "garment.reduction", "neither a height"),
+        ({"0.2": 0.1, "0.20": 0.2}, "garment.reduction", "one height"),
+        ({"waist": 0.95}, "garment.reduction", "0.9"),
+        ({}, "garment.reduction", "non-empty"),
+        (1.2, "garment.reduction", "0.9"),
+    ],
+)
+def test_a_bad_profile_is_one_line_naming_the_field(tmp_path, reduction, field, words):
+    with pytest.raises(InputError) as caught:
+        run_result(tmp_path, _case(reduction), stop="predeform")
+    message = str(caught.value)
+    assert field in message and words in message and "\n" not in message
+    assert not (tmp_path / "out").exists() or not list((tmp_path / "out").glob("*.nc"))
+
+
+def test_profile_keys_from_yaml_numbers_become_heights():
+    case = validate_case(_case({0.15: 0.1, "waist": 0.2}))
+    assert dict(case.garment.reduction) == {"0.15": 0.1, "waist": 0.2}
+    profile = Profile.of(case.garment.reduction)
+    np.testing.assert_allclose(profile.heights(LINES), [0.15, 0.25])
+
+
+def _rows(path: Path) -> list[dict[str, str]]:
+    with path.open() as handle:
+        return list(csv.DictReader(handle))
+
+
+@pytest.mark.parametrize("cut", ["two-panel", "tube"])
+def test_pattern_files_agree_at_one_to_one_in_mm(graded, tmp_path, cut):
+    """The CSV's widths are the share of the rest circumference the cut asks for; the DXF reads
+    back with ezdxf and its outline's row widths equal the CSV's to 0.01 mm; the SVG is XML
+    whose viewBox is its width and height in mm."""
+    ezdxf = pytest.importorskip("ezdxf")
+    folder, ds = graded
+    csv_path, svg_path, dxf_path = write_pattern(
+        folder / "out" / "result.nc", tmp_path / "pattern.csv", cut
+    )
+    rows = _rows(csv_path)
+    share = 0.5 if cut == "two-panel" else 1.0
+    width = np.array([float(r["width_mm"]) for r in rows])
+    height = np.array([float(r["pattern_height_mm"]) for r in rows])
+    np.testing.assert_allclose(width, share * 1e3 * ds["rest_circumference"].values, atol=1e-4)
+    assert float(rows[-1]["pattern_height_mm"]) == pytest.approx(0.9 * 300.0, rel=1e-9)
+
+    doc = ezdxf.readfile(dxf_path)
+    assert doc.units == ezdxf.units.MM
+    (outline,) = doc.modelspace().query('LWPOLYLINE[layer=="OUTLINE"]')
+    points = np.array([p[:2] for p in outline.get_points()])
+    m = len(rows)
+    left, right = points[:m], points[m:][::-1]
+    np.testing.assert_allclose(right[:, 0] - left[:, 0], width, atol=0.01)
+    np.testing.assert_allclose(left[:, 1], height, atol=0.01)
+    (girth,) = doc.modelspace().query('LINE[layer=="GIRTH"]')
+    z = ds["cut_height"].values
+    assert girth.dxf.start.y == pytest.approx(np.interp(0.25, z, 1e3 * ds["pattern_height"]))
+    assert [t.dxf.text for t in doc.modelspace().query("TEXT")] == ["waist"]
+
+    root = ET.parse(svg_path).getroot()
+    assert root.tag.endswith("svg")
+    w, h = (float(root.get(k).removesuffix("mm")) for k in ("width", "height"))
+    assert [float(v) for v in root.get("viewBox").split()] == pytest.approx([0, 0, w, h], abs=1e-3)
+    assert w == pytest.approx(width.max() + 40.0, abs=1e-3)
+
+
+def test_pattern_cli_refuses_a_bad_format_and_writes_nothing(graded, tmp_path):
+    folder, _ = graded
+    done = subprocess.run(
+        [sys.executable, "-m", "cloth", "pattern", str(folder / "out" / "result.nc"), "-o",
+         str(tmp_path / "p.csv"), "--formats", "csv", "pdf"],
+        capture_output=True, text=True,
+    )  # fmt: skip
+    assert done.returncode == 2 and "--formats" in done.stderr
+    assert len(done.stderr.strip().splitlines()) == 1 and not list(tmp_path.iterdir())
