@@ -2,6 +2,7 @@
 by Newton with continuation and reuse, every reported quantity side by side.
 
     .venv/bin/python benchmarks/path_agreement.py [--grids 96x48 192x96] [--band 0.86 1.22]
+        [--bend-modulus 1e4]
 
 Prints, per grid, the largest relative difference of the girth lines' mean, max and min pressure
 and tension, the normal force on the body, and the unstable modes of each path.
@@ -28,11 +29,16 @@ PATHS = {
 }
 
 
-def result(grid: tuple[int, int], band: tuple[float, float], solver: dict) -> xr.Dataset:
+def result(
+    grid: tuple[int, int], band: tuple[float, float], solver: dict, bend_modulus: float
+) -> xr.Dataset:
+    garment = {"bottom": band[0], "top": band[1], "reduction": 0.20, "grid": list(grid)}
+    if bend_modulus > 0:
+        garment["bend_modulus"] = bend_modulus
     case = {
         "material": "powernet",
         "body": {"torso": {"size": "M"}},
-        "garment": {"bottom": band[0], "top": band[1], "reduction": 0.20, "grid": list(grid)},
+        "garment": garment,
         "solver": solver,
     }
     with tempfile.TemporaryDirectory() as tmp:
@@ -46,13 +52,16 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--grids", nargs="+", default=["96x48"])
     parser.add_argument("--band", nargs=2, type=float, default=[0.86, 1.22])
+    parser.add_argument("--bend-modulus", type=float, default=0.0, help="garment.bend_modulus")
     args = parser.parse_args()
     logging.basicConfig(level=logging.WARNING)
     print("| grid | band (m) | quantity | largest relative difference | where |")
     print("|---|---|---|---|---|")
     for grid in args.grids:
         n, m = (int(v) for v in grid.split("x"))
-        plain, fast = (result((n, m), tuple(args.band), s) for s in PATHS.values())
+        plain, fast = (
+            result((n, m), tuple(args.band), s, args.bend_modulus) for s in PATHS.values()
+        )
         for name in QUANTITIES:
             a, b = plain[name].values, fast[name].values
             rel = np.abs(b - a) / np.maximum(np.abs(a), 1e-12)
