@@ -16,9 +16,12 @@ from cloth.files.surface import load_or_fit
 from cloth.io import atomic_output, read_netcdf
 from cloth.materials.labtables import IngestOptions
 from cloth.pipeline.config import load_case, validate_case
+from cloth.results.pressure import MMHG
 from cloth.stages import figures, view, write_result
 from cloth.stages.bodycheck import describe
 from cloth.stages.case import SOLVER_KEYS, predeform_file, relax_file, run_case
+from cloth.stages.design import Target
+from cloth.stages.graded import design_files
 from cloth.stages.inputs import ingest_material, torso_file
 from cloth.stages.sweep import confirm_file, design_file, sweep_files
 
@@ -156,7 +159,24 @@ def _sweep(args: argparse.Namespace) -> int:
 def _design(args: argparse.Namespace) -> int:
     import json
 
-    design_file(args.sweep, json.loads(args.targets), args.output)
+    if args.input.suffix == ".nc":
+        if args.target or args.targets is None:
+            raise InputError(
+                "a sweep's design takes --targets JSON, not --target; --target designs a case",
+                args.input, "--targets",
+            )  # fmt: skip
+        design_file(args.input, json.loads(args.targets), args.output)
+        return 0
+    if args.targets is not None:
+        raise InputError(
+            "a case's design takes --target LINE=PRESSURE (repeat per line), not --targets",
+            args.input, "--target",
+        )  # fmt: skip
+    if not (args.tolerance > 0 and args.tolerance < float("inf")):
+        raise InputError(f"must be a positive number of mmHg, got {args.tolerance}",
+                         field="--tolerance")  # fmt: skip
+    targets = [Target.parse(text) for text in args.target]
+    design_files(args.input, targets, args.output, args.tolerance * MMHG)
     return 0
 
 

@@ -339,10 +339,29 @@ def build_parser() -> argparse.ArgumentParser:
     )  # fmt: skip
     sw.set_defaults(handler=_sweep)
 
-    de = commands.add_parser("design", help="sweep.nc -> design.csv: the reduction per target")
-    de.add_argument("sweep", type=_path, help="sweep.nc from cloth sweep")
-    de.add_argument("--targets", required=True, help="JSON list of {landmark, pressure_mmHg}")
-    de.add_argument("-o", "--output", type=_path, required=True, help="design.csv to write")
+    de = commands.add_parser(
+        "design",
+        help="sweep.nc -> design.csv: the uniform reduction per target; or case.yaml -> a "
+        "graded pattern meeting a pressure on every target line (docs/outputs.md)",
+    )
+    de.add_argument(
+        "input", type=_path,
+        help="sweep.nc from cloth sweep, or a case YAML whose pattern to design",
+    )  # fmt: skip
+    de.add_argument("--targets", help="with sweep.nc: JSON list of {landmark, pressure_mmHg}")
+    de.add_argument(
+        "--target", action="append", default=[], metavar="LINE=PRESSURE",
+        help="with a case: a girth line's mean pressure, in mmHg (default), kPa or Pa, e.g. "
+        "waist=20 or hip=2.0kPa; repeat per line",
+    )  # fmt: skip
+    de.add_argument(
+        "--tolerance", type=float, default=0.5,
+        help="with a case: how near every line must come to its target, mmHg (default 0.5)",
+    )  # fmt: skip
+    de.add_argument(
+        "-o", "--output", type=_path, required=True,
+        help="design.csv to write (sweep.nc), or the folder of the design (a case)",
+    )  # fmt: skip
     de.set_defaults(handler=_design)
 
     co = commands.add_parser("confirm", help="design.csv + confirmation results -> errors")

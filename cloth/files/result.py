@@ -18,13 +18,11 @@ from __future__ import annotations
 
 import csv
 import io as _io
-import json
 import subprocess
 from pathlib import Path
 
 import numpy as np
 import xarray as xr
-from numpy.typing import NDArray
 
 from cloth.files.levels import estimate_columns
 from cloth.files.material import fabric_variables
@@ -171,15 +169,6 @@ def result_dataset(
     return xr.Dataset(variables, coords=coords, attrs={k: to_attr(v) for k, v in attrs.items()})
 
 
-def row_attr(state: State, key: str) -> NDArray[np.float64] | None:
-    """A per-row list predeform kept in the state's attributes ((m,) float), or None."""
-    raw = state.attrs.get(key)
-    if raw is None:
-        return None
-    values = np.asarray(json.loads(raw) if isinstance(raw, str) else raw, dtype=float)
-    return values if values.shape == (state.grid.m,) else None
-
-
 def pattern_variables(state: State) -> dict[str, xr.Variable]:
     """The cut pattern per row (dim ``row``): ``rest_circumference`` (m, the sum of the row's
     weft rest lengths), ``pattern_height`` (m, the rest warp coordinate v), and where predeform
@@ -196,10 +185,10 @@ def pattern_variables(state: State) -> dict[str, xr.Variable]:
             "row", grid.rest_uv[:: grid.n, 1], "m", "rest warp coordinate of the row"
         ),
     }
-    cut = row_attr(state, "cut_height")
+    cut = state.row_values("cut_height")
     if cut is not None:
         out["cut_height"] = variable("row", cut, "m", "body height the row was cut for")
-    reduction = row_attr(state, "row_reduction")
+    reduction = state.row_values("row_reduction")
     if reduction is not None:
         out["row_reduction"] = variable(
             "row", reduction, "1", "reduction of the row's rest circumference from the body's girth"

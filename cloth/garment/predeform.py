@@ -24,6 +24,7 @@ the body surface (contact flag; relaxation keeps it on or outside).
 from __future__ import annotations
 
 import logging
+from dataclasses import replace
 
 import numpy as np
 from numpy.typing import NDArray
@@ -33,7 +34,7 @@ from cloth.bodies.sections import loop_area
 from cloth.case import Case
 from cloth.case.profile import lengthwise_spans
 from cloth.errors import InputError
-from cloth.garment.grid import FIXED, FREE, SLIDING, build_grid
+from cloth.garment.grid import FIXED, FREE, SLIDING, WEFT, Grid, build_grid
 from cloth.garment.state import State, grid_fabric
 from cloth.garment.worn import set_strains
 from cloth.materials.curves import Fabric
@@ -247,3 +248,33 @@ def predeform(
             **{f"set_strain_{d}": s for d, s in worn.items()},
         },
     )
+
+
+def recut(state: State, row_reduction: NDArray[np.float64]) -> Grid:
+    """``state``'s grid cut with the row reductions ``row_reduction`` ((m,), 1) in place of its
+    own (``attrs['row_reduction']``): each row's rest circumference scaled by (1 - new) /
+    (1 - old), the warp as it was; the rest lengths and areas of every spring family follow
+    (`build_grid`). For the sensitivities (`cloth.results.sensitivity`)."""
+    grid = state.grid
+    old = state.row_values("row_reduction")
+    if old is None:
+        raise ValueError("recut needs a graded pattern (a state with row_reduction)")
+    weft = grid.rest_length[grid.family_slices[WEFT]].reshape(grid.m, -1).sum(axis=1)
+    circumference = weft * (1.0 - np.asarray(row_reduction)) / (1.0 - old)
+    return build_grid(
+        grid.n, grid.m, circumference, grid.rest_uv[:: grid.n, 1],
+        grid_fabric(state.fabric, state.around), closed=grid.closed, **state.moduli,
+    )  # fmt: skip
+
+
+def with_profile(state: State, values: NDArray[np.float64]) -> State:
+    """``state`` with its reduction profile's knot values replaced by ``values`` ((K,), 1): the
+    case says so, the grid is `recut`, the positions stay (a warm start for the new pattern)."""
+    garment = state.case.garment
+    profile = garment.reduction_profile.with_values(np.asarray(values, dtype=float))
+    marks = {**state.body.get("landmarks", {}), **state.case.landmarks}
+    rows = profile.evaluate(state.row_values("cut_height"), marks)
+    data = state.case.to_dict()
+    data["garment"]["reduction"] = profile.to_block()
+    attrs = {**state.attrs, "row_reduction": rows.tolist()}
+    return replace(state, grid=recut(state, rows), case=Case.from_dict(data), attrs=attrs)

@@ -4,6 +4,7 @@ grid sees it. Read from and written to ``initial.nc`` and ``relaxed.nc`` by
 
 from __future__ import annotations
 
+import json
 from dataclasses import dataclass, field, replace
 from typing import Any
 
@@ -57,6 +58,15 @@ class State:
 
     def with_positions(self, x: NDArray[np.float64], **changes: Any) -> State:
         return replace(self, x=x, **changes)
+
+    def row_values(self, key: str) -> NDArray[np.float64] | None:
+        """A per-row list predeform kept in ``attrs`` (``cut_height`` m, ``row_reduction`` 1,
+        ``hull_girth`` m; JSON text once read from a file) as (m,) float, or None."""
+        raw = self.attrs.get(key)
+        if raw is None:
+            return None
+        values = np.asarray(json.loads(raw) if isinstance(raw, str) else raw, dtype=float)
+        return values if values.shape == (self.grid.m,) else None
 
 
 def grid_fabric(fabric: Fabric, around: str) -> Fabric:

@@ -52,6 +52,10 @@ class Result:
     lags: int = 0
     friction: dict[str, NDArray] = field(default_factory=dict)
     unstable_modes: int | None = None
+    #: SuperLU's factor of the exact Newton matrix at (or one quadratic step before) the
+    #: equilibrium, where the run holds a valid one (`cloth.solvers.saddle.kept_factor`): the
+    #: sensitivities solve with it (`cloth.results.sensitivity`). None otherwise.
+    factor: object = field(default=None, repr=False, compare=False)
 
     @classmethod
     def diverged(cls, error: Diverged, final: Evaluation, settings: Settings) -> Result:
@@ -130,7 +134,7 @@ def _relax(
     peak = max(ev.energy, 1e-300)
     phases = _phases(problem, settings, solver)
     iterations, lags, change = 0, 0, 0.0
-    modes, escapes = None, 0
+    modes, escapes, kept = None, 0, None
     with ProgressBar(sum(count for _, count in phases), settings) as bar:
         listeners = [Recorder(history, problem), bar, LogLine(settings.log_every), *callbacks]
         while True:
@@ -159,7 +163,7 @@ def _relax(
                     kept = saddle.kept_factor(problem, newton, ev)
                     modes = None if kept is None else _inertia(kept)
                     break
-                factor = saddle.equilibrium_factor(problem, ev, newton)
+                factor = kept = saddle.equilibrium_factor(problem, ev, newton)
                 modes = _inertia(factor)
                 if not modes or escapes >= saddle.MAX_ESCAPES:
                     break
@@ -217,7 +221,8 @@ def _relax(
             "" if escapes == 1 else "s", modes,
         )  # fmt: skip
     return Result(ev, history, converged, iterations, settings.method, solver, seconds, count,
-                  peak, lags, _friction_fields(problem, ev), modes)  # fmt: skip
+                  peak, lags, _friction_fields(problem, ev), modes,
+                  kept if converged else None)  # fmt: skip
 
 
 def _newton(phases: list) -> Newton | None:

@@ -1,0 +1,255 @@
+"""Sensitivities of the girth-line mean pressures to the pattern, by the adjoint of the equilibrium.
+
+The controls theta are the knot values of the case's reduction profile (`cloth.case.profile`;
+one for a uniform reduction). A girth line's mean pressure (`cloth.results.landmarks`) is
+
+    J = (1/n) sum_c [(1 - t) p(below, c) + t p(above, c)],   p_i = lambda_i / a_i on the body,
+
+with lambda_i = -R_i . m_i the body's reaction on node i (`cloth.solvers.common.body_push`:
+m_i = n_i, or n_h / |n_h|^2 at a sliding edge node), a_i its deformed tributary area and t the
+line's weight between the mean heights of the rows around it. At an equilibrium P R(x, theta)
+= 0, the moves its constraints allow (the projector P, the body's contact set held fixed, as the
+Newton step holds it), a change of the pattern moves the garment by dx = M^-1 P dR/dtheta
+dtheta, M the exact constrained Newton matrix (`cloth.solvers.stability.exact_matrix`: the
+stiffness less the contact's curvature term, in the allowed directions). So
+
+    dJ/dtheta = partial J/partial theta + mu^T P partial R/partial theta,   M mu = dJ/dx,
+
+one solve per girth line with M's factor, whatever the number of knots:
+
+* dJ/dx: lambda's through the stiffness K v (v_i = w_i m_i / (n a_i), one product with the
+  sparse K) and through the normal's turn on the curved body (the Hessian H of the signed
+  distance); the areas' through the cells' cross products; t's through the rows' mean heights;
+* partial R / partial theta: each spring's force sigma(eps) A along it changes with its rest
+  length L0 (by -sigma'(eps) A l / L0^2) and its area A (by sigma); L0 and A of every spring
+  come from the pattern (`cloth.garment.predeform.recut`) by central differences in the row
+  reductions (exact to rounding: they are smooth in them), the row reductions from the knots by
+  `cloth.case.profile.Profile.row_sensitivity`;
+* partial J / partial theta at fixed x = -v . partial R/partial theta.
+
+Edges: a fixed edge row's nodes are not moved (P removes them); a sliding edge row's height is
+held (P removes the vertical), its reaction taken from the horizontal balance. Smooth bodies
+without skin models only (`cloth.solvers.stability.counts`): faceted contact switches faces
+under the garment and the skin models' lagged quantities are not differentiated.
+"""
+
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+from numpy.typing import NDArray
+
+from cloth.bodies import Body
+from cloth.garment.grid import SLIDING, Grid, node_area
+from cloth.garment.mechanics import _operators
+from cloth.garment.predeform import recut
+from cloth.garment.state import State
+from cloth.results.landmarks import girth_line
+from cloth.solvers.activeset import held_nodes
+from cloth.solvers.linear import _factor
+from cloth.solvers.newton import newton_matrix, stiffness_at
+from cloth.solvers.problem import Evaluation, Problem
+from cloth.solvers.stability import counts
+
+log = logging.getLogger(__name__)
+
+#: Step of the central differences of the rest lengths and areas in the row reductions.
+RECUT_STEP = 1e-6
+#: Refinement steps of the adjoint solve with an older factor, and the residual that stops them.
+REFINEMENTS = 8
+REFINED = 1e-13
+
+
+@dataclass(frozen=True)
+class Sensitivity:
+    """Girth-line means and their derivatives in the profile's knot values.
+
+    lines : (L,) str; knots : (K,) str
+    means : (L,) float, Pa
+    jacobian : (L, K) float, Pa per unit reduction: d(mean pressure) / d(knot value)
+    """
+
+    lines: tuple[str, ...]
+    knots: tuple[str, ...]
+    means: NDArray[np.float64]
+    jacobian: NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class LineGradient:
+    """One girth line's mean J (Pa), v ((N, 3): the weights of -R in J at fixed x) and dJ/dx
+    ((N, 3), Pa m-1)."""
+
+    value: float
+    weights: NDArray[np.float64]
+    gradient: NDArray[np.float64]
+
+
+def reaction_direction(normal: NDArray[np.float64], constraint: NDArray[np.int8]) -> NDArray:
+    """(N, 3): m_i with lambda_i = -R_i . m_i (`cloth.solvers.common.body_push`)."""
+    m = normal.copy()
+    sliding = np.flatnonzero(constraint == SLIDING)
+    horizontal = normal[sliding].copy()
+    horizontal[:, 2] = 0.0
+    squared = np.einsum("ij,ij->i", horizontal, horizontal)
+    steep = squared > 1e-12
+    m[sliding[steep]] = horizontal[steep] / squared[steep, None]
+    return m
+
+
+def _direction_turn(normal, constraint, hessian_blocks) -> NDArray[np.float64]:
+    """(N, 3, 3): dm_i/dx_i, the reaction direction's turn as the node slides on the body."""
+    turn = hessian_blocks.copy()
+    sliding = np.flatnonzero(constraint == SLIDING)
+    for row in sliding:
+        n = normal[row]
+        h = np.array([n[0], n[1], 0.0])
+        s = float(h @ h)
+        if s <= 1e-12:
+            continue
+        m = h / s
+        e = np.diag([1.0, 1.0, 0.0])
+        turn[row] = ((e - 2.0 * np.outer(m, h)) / s) @ hessian_blocks[row]
+    return turn
+
+
+def _area_gradient(x: NDArray[np.float64], grid: Grid, weight: NDArray) -> NDArray[np.float64]:
+    """(N, 3): the gradient of sum_i weight_i a_i (`cloth.garment.grid.node_area`)."""
+    pts = x.reshape(grid.m, grid.n, 3)
+    w = weight.reshape(grid.m, grid.n)
+    cols = np.arange(grid.n if grid.closed else grid.n - 1)
+    nxt_cols = (cols + 1) % grid.n
+    here, nxt = pts[:, cols], pts[:, nxt_cols]
+    d1 = nxt[1:] - here[:-1]
+    d2 = here[1:] - nxt[:-1]
+    c = np.cross(d1, d2)
+    norm = np.linalg.norm(c, axis=2, keepdims=True)
+    unit = np.divide(c, norm, out=np.zeros_like(c), where=norm > 0)
+    share = 0.25 * (w[:-1][:, cols] + w[:-1][:, nxt_cols] + w[1:][:, cols] + w[1:][:, nxt_cols])
+    g1 = 0.5 * share[..., None] * np.cross(d2, unit)  # dA/dd1
+    g2 = 0.5 * share[..., None] * np.cross(unit, d1)  # dA/dd2
+    out = np.zeros((grid.m, grid.n, 3))
+    rows = np.arange(grid.m - 1)[:, None]
+    np.add.at(out, (rows + 1, nxt_cols[None, :]), g1)
+    np.add.at(out, (rows, cols[None, :]), -g1)
+    np.add.at(out, (rows + 1, cols[None, :]), g2)
+    np.add.at(out, (rows, nxt_cols[None, :]), -g2)
+    return out.reshape(-1, 3)
+
+
+def line_gradient(
+    problem: Problem, ev: Evaluation, k: sp.csr_matrix, height: float, hessian_blocks: NDArray
+) -> LineGradient | None:
+    """The girth line at ``height`` (m): its mean pressure and dJ/dx (module docstring); None
+    where the line is beyond the garment. ``k``: the exact stiffness ((3N, 3N), N m-1);
+    ``hessian_blocks``: (N, 3, 3) m-1, the signed distance's Hessian at the held nodes."""
+    grid = problem.grid
+    n = grid.n
+    rows_z = ev.x.reshape(grid.m, n, 3)[..., 2].mean(axis=1)
+    line = girth_line(rows_z, height)
+    if line is None:
+        return None
+    below, above, t = line
+    held = ev.on_body
+    area = node_area(ev.x, grid)
+    m = reaction_direction(ev.normal, problem.constraint)
+    push = -np.einsum("ij,ij->i", ev.loads, m)
+    weight = np.zeros(grid.n_nodes)
+    weight[below * n : (below + 1) * n] += 1.0 - t
+    weight[above * n : (above + 1) * n] += t
+    weight = np.where(held, weight / n, 0.0)
+    pressure = np.where(held, push / area, 0.0)
+    c = weight / area
+    value = float(weight @ pressure)
+    v = c[:, None] * m
+    turn = _direction_turn(ev.normal, problem.constraint, hessian_blocks)
+    gradient = (k @ v.ravel()).reshape(-1, 3)
+    gradient -= c[:, None] * np.einsum("nji,nj->ni", turn, ev.loads)
+    gradient += _area_gradient(ev.x, grid, -weight * pressure / area)
+    if above != below:  # the line's weight t moves with the rows' mean heights
+        span = rows_z[above] - rows_z[below]
+        rows = pressure.reshape(grid.m, n)
+        slope = float(rows[above].mean() - rows[below].mean())  # dJ/dt
+        gradient[below * n : (below + 1) * n, 2] += slope * (t - 1.0) / span / n
+        gradient[above * n : (above + 1) * n, 2] += slope * (-t) / span / n
+    return LineGradient(value, v, gradient)
+
+
+def force_derivatives(
+    state: State, ev: Evaluation, row_derivative: NDArray[np.float64]
+) -> NDArray[np.float64]:
+    """(K, N, 3) N per unit: partial R / partial theta_k at fixed x, from ``row_derivative``
+    ((m, K): d r_j / d theta_k) and the recut pattern (module docstring)."""
+    grid = state.grid
+    row_reduction = state.row_values("row_reduction")
+    springs = ev.springs
+    incidence_t = _operators(grid).incidence_t
+    out = np.empty((row_derivative.shape[1], grid.n_nodes, 3))
+    for k in range(row_derivative.shape[1]):
+        step = RECUT_STEP * row_derivative[:, k]
+        up = recut(state, row_reduction + step)
+        down = recut(state, row_reduction - step)
+        d_rest = (up.rest_length - down.rest_length) / (2 * RECUT_STEP)
+        d_area = (up.area - down.area) / (2 * RECUT_STEP)
+        d_force = (
+            -springs.tangent * grid.area * springs.length / grid.rest_length**2 * d_rest
+            + springs.stress * d_area
+        )
+        out[k] = -(incidence_t @ (d_force[:, None] * springs.direction))
+    return out
+
+
+def sensitivities(
+    state: State, body: Body, ev: Evaluation, heights: dict[str, float], factor=None
+) -> Sensitivity:
+    """The girth lines' means at the equilibrium ``ev`` of ``state`` on ``body`` and their
+    derivatives in the profile's knot values (module docstring). ``factor``: a factor of the
+    exact Newton matrix at or near ``ev`` (the run's own, `cloth.solvers.saddle.kept_factor`),
+    refined against the matrix at ``ev`` (no factorisation); else one is made."""
+    problem = Problem.of(state, body)
+    if not counts(problem):
+        raise ValueError(
+            "sensitivities take a smooth body without tissue or friction (faceted contact and "
+            "the skin models are not differentiated)"
+        )
+    k = stiffness_at(problem, ev)
+    held = held_nodes(problem, ev, k)
+    projector, _ = problem.basis(ev.x, ev.normal, held)
+    matrix = newton_matrix(problem, ev, held, projector, k(False))
+    hessian_blocks = np.zeros((state.grid.n_nodes, 3, 3))
+    on = np.flatnonzero(ev.on_body)
+    if on.size:
+        hessian_blocks[on] = body.hessian(ev.closest[on])
+    profile = state.case.garment.reduction_profile
+    marks = {**state.body.get("landmarks", {}), **state.case.landmarks}
+    rows = profile.row_sensitivity(state.row_values("cut_height"), marks)
+    d_forces = force_derivatives(state, ev, rows)  # (K, N, 3)
+    projected = np.einsum("nij,knj->kni", projector, d_forces).reshape(len(d_forces), -1)
+    if factor is None:
+        factor = _factor(matrix)
+    names, means, jac = [], [], []
+    for name, height in sorted(heights.items(), key=lambda item: item[1]):
+        line = line_gradient(problem, ev, k(False), height, hessian_blocks)
+        if line is None:
+            continue
+        mu = _refined_solve(matrix, factor, line.gradient.ravel())
+        direct = -np.einsum("ni,kni->k", line.weights, d_forces)
+        names.append(name)
+        means.append(line.value)
+        jac.append(direct + projected @ mu)
+    return Sensitivity(tuple(names), profile.keys, np.asarray(means), np.asarray(jac))
+
+
+def _refined_solve(matrix: sp.csr_matrix, factor, rhs: NDArray[np.float64]) -> NDArray:
+    """``matrix`` x = ``rhs`` with ``factor`` of it (or of a matrix near it), refined."""
+    x = factor.solve(rhs)
+    scale = float(np.linalg.norm(rhs)) or 1.0
+    for _ in range(REFINEMENTS):
+        residual = rhs - matrix @ x
+        if np.linalg.norm(residual) <= REFINED * scale:
+            break
+        x = x + factor.solve(residual)
+    return x

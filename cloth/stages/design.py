@@ -1,0 +1,340 @@
+"""The design loop: the graded pattern that puts target pressures on girth lines (issue 30).
+
+Controls: the knot values of the case's reduction profile (`cloth.case.profile`); a case with
+one uniform reduction gets a knot at every target line, all at that reduction. Targets: a mean
+pressure per girth line (`Target`), met when every line is within the tolerance (default 0.5
+mmHg).
+
+A case of one uniform reduction first takes one Gauss-Newton step of that reduction alone, to
+the uniform reduction whose misses have the least sum of squares: its equilibrium is the
+uniform answer the graded one is compared with (`Design.uniform`), and the graded loop's start.
+
+Each iteration is one equilibrium, warm-started from the last one's positions on the recut
+pattern (`cloth.garment.predeform.with_profile`), and its sensitivities by the adjoint
+(`cloth.results.sensitivity`: one solve per target line with the equilibrium's factor). The
+step is Gauss-Newton's, the least-squares solution of J dtheta = -(p - p_target), within the
+bounds (`bounded_step`): every knot in [0, 0.6], and no higher than the reduction that strains
+its row to the lab curve's last strain (`lab_caps`: beyond it the pressure would come from an
+extrapolated curve). The loop stops when every line is within `AIM` of the tolerance, after
+`MAX_SOLVES` - 1 equilibria (one is left for the confirmation from scratch), or when the bounds
+hold the knots still. A target beyond reach names the line, the closest pressure reached and
+the bound that binds (`Design.shortfall`).
+"""
+
+from __future__ import annotations
+
+import logging
+import re
+from dataclasses import dataclass, replace
+
+import numpy as np
+from numpy.typing import NDArray
+
+from cloth.bodies import Body
+from cloth.case import Case, Settings
+from cloth.errors import InputError
+from cloth.garment.grid import WEFT
+from cloth.garment.predeform import predeform, with_profile
+from cloth.garment.state import State
+from cloth.results.landmarks import landmark_heights
+from cloth.results.pressure import MMHG
+from cloth.results.sensitivity import Sensitivity, sensitivities
+from cloth.solvers.relax import Result, relax
+from cloth.stages.levels import girth_marks
+
+log = logging.getLogger(__name__)
+
+#: Bounds of every knot's reduction.
+BOUNDS = (0.0, 0.6)
+#: A step of the knots this small (1) makes no progress: the bounds hold them.
+STALLED = 1e-6
+#: Default tolerance on every line, Pa (0.5 mmHg).
+TOLERANCE = 0.5 * MMHG
+#: Equilibria of a design at most, the confirmation from scratch included.
+MAX_SOLVES = 8
+#: The loop aims within this share of the tolerance while it has equilibria left, so that the
+#: confirmation from scratch (another equilibrium of the same pattern) lands within it too.
+AIM = 0.2
+UNITS = {"mmhg": MMHG, "kpa": 1e3, "pa": 1.0}
+
+
+@dataclass(frozen=True)
+class Target:
+    """A girth line's target mean pressure, Pa."""
+
+    line: str
+    pressure: float
+
+    @classmethod
+    def parse(cls, text: str, field: str = "--target") -> Target:
+        """``waist=20`` (mmHg), ``waist=20mmHg``, ``waist=2.6kPa`` or ``waist=2600Pa``."""
+        match = re.fullmatch(r"\s*([^=\s]+)\s*=\s*([-+0-9.eE]+)\s*(mmHg|kPa|Pa)?\s*", text)
+        try:
+            value = float(match.group(2)) if match else float("nan")
+        except ValueError:
+            value = float("nan")
+        if not match or not np.isfinite(value) or value <= 0:
+            raise InputError(
+                f"{text!r} is not a target; write LINE=PRESSURE with a positive pressure in "
+                "mmHg (default), kPa or Pa, e.g. waist=20 or hip=2.0kPa", field=field,
+            )  # fmt: skip
+        unit = (match.group(3) or "mmHg").lower()
+        return cls(match.group(1), value * UNITS[unit])
+
+
+@dataclass(frozen=True)
+class Iterate:
+    """One equilibrium of the loop: knot values (K,), line means (L,) Pa, Newton iterations."""
+
+    values: NDArray[np.float64]
+    means: NDArray[np.float64]
+    iterations: int
+
+
+@dataclass(frozen=True)
+class Design:
+    """The loop's outcome: the knots and their values, the target lines, their targets and
+    the means reached (Pa), every iterate, the equilibria solved, for a target out of reach
+    its one-line ``shortfall`` (None when every line is met), and the uniform answer."""
+
+    knots: tuple[str, ...]
+    values: NDArray[np.float64]
+    lines: tuple[str, ...]
+    targets: NDArray[np.float64]
+    achieved: NDArray[np.float64]
+    iterates: tuple[Iterate, ...]
+    solves: int
+    tolerance: float
+    state: State
+    shortfall: str | None = None
+    #: For a case of one uniform reduction: the uniform reduction of least squares misses (one
+    #: Gauss-Newton step from the case's) and its equilibrium's line means (L,), Pa.
+    uniform: tuple[float, NDArray[np.float64]] | None = None
+
+    @property
+    def met(self) -> bool:
+        return bool(np.all(np.abs(self.achieved - self.targets) <= self.tolerance))
+
+    def reduction(self) -> dict[str, float]:
+        """The designed profile as a case's ``garment.reduction``."""
+        return dict(zip(self.knots, self.values.tolist(), strict=True))
+
+
+def line_means(state: State, result: Result, heights: dict[str, float]) -> NDArray[np.float64]:
+    """(L,) float, Pa: the girth lines' mean pressures at ``result``'s equilibrium, bottom to
+    top (the lines beyond the garment left out), as result.nc reports them."""
+    return np.array([mark.mean for mark in girth_marks(state, result.final, heights)])
+
+
+def finite_difference_jacobian(
+    state: State, body: Body, settings: Settings, heights: dict[str, float], step: float
+) -> NDArray[np.float64]:
+    """(L, K) float, Pa: d(line means)/d(knot values) by central differences of ``step`` over
+    full equilibria warm-started from ``state`` (an equilibrium): 2K solves. The adjoint's
+    check (tests/test_sensitivity.py) and the design loop's where no adjoint is available."""
+    values = np.asarray(state.case.garment.reduction_profile.values, dtype=float)
+    columns = []
+    for k in range(len(values)):
+        means = []
+        for sign in (1.0, -1.0):
+            shifted = values.copy()
+            shifted[k] += sign * step
+            moved = with_profile(state, shifted)
+            means.append(line_means(moved, relax(moved, body, settings), heights))
+        columns.append((means[0] - means[1]) / (2.0 * step))
+    return np.stack(columns, axis=1)
+
+
+def _start(state: State, body: Body, targets: list[Target], source: str) -> State:
+    """``state`` with the knots of the design: its profile's, or one per target line at its
+    uniform reduction (pre-deformed again for the new case)."""
+    garment = state.case.garment
+    if garment.reduction is None:
+        raise InputError(
+            "a design needs a graded pattern; give garment.reduction, not circumference",
+            source, "garment.reduction",
+        )  # fmt: skip
+    profile = garment.reduction_profile
+    if not profile.uniform:
+        return state
+    data = state.case.to_dict()
+    data["garment"]["reduction"] = {t.line: profile.values[0] for t in targets}
+    case = Case.from_dict(data, source)
+    return predeform(case, state.fabric, body, state.body, source)
+
+
+def design(
+    state: State, body: Body, targets: list[Target], tolerance: float = TOLERANCE,
+    source: str = "case",
+) -> Design:  # fmt: skip
+    """The design loop (module docstring) from the pre-deformed ``state`` of a case on
+    ``body``; `InputError` naming ``source`` for a target line the body does not have."""
+    settings = replace(state.case.solver, progress=False)
+    heights = landmark_heights(state)
+    unknown = [t.line for t in targets if t.line not in heights]
+    if unknown:
+        raise InputError(
+            f"no girth line {unknown[0]!r} on this body; its lines: {', '.join(heights)}",
+            source, "targets",
+        )  # fmt: skip
+    lines = {t.line: heights[t.line] for t in targets}
+    order = sorted(lines, key=lines.__getitem__)
+    goal = np.array([next(t.pressure for t in targets if t.line == name) for name in order])
+    graded = not state.case.garment.reduction_profile.uniform
+    state = _start(state, body, targets, source)
+    values = np.asarray(state.case.garment.reduction_profile.values, dtype=float)
+    result = relax(state, body, settings)
+    state = state.with_positions(result.final.x)
+    solves, iterates, shortfall, uniform = 1, [], None, None
+    if not graded:  # the best uniform reduction first: the answer to compare with, and the start
+        sens = _sensitivities(state, body, result, lines)
+        _check_lines(sens, order, lines, state, source)
+        iterates.append(Iterate(values.copy(), sens.means.copy(), result.iterations))
+        upper = float(lab_caps(state, result, heights).min())
+        slope = sens.jacobian.sum(axis=1, keepdims=True)
+        shift = float(np.linalg.lstsq(slope, goal - sens.means, rcond=None)[0][0])
+        values = np.full_like(values, np.clip(values[0] + shift, BOUNDS[0], upper))
+        moved = with_profile(state, values)
+        result = relax(moved, body, settings)
+        state, solves = moved.with_positions(result.final.x), 2
+        uniform = (float(values[0]), line_means(state, result, lines))
+    while True:
+        sens = _sensitivities(state, body, result, lines)
+        _check_lines(sens, order, lines, state, source)
+        miss = sens.means - goal
+        iterates.append(Iterate(values.copy(), sens.means.copy(), result.iterations))
+        log.info(
+            "design: solve %d, knots %s, lines %s mmHg (targets %s)", solves,
+            np.round(values, 4).tolist(), np.round(sens.means / MMHG, 2).tolist(),
+            np.round(goal / MMHG, 2).tolist(),
+        )  # fmt: skip
+        if np.all(np.abs(miss) <= AIM * tolerance) or solves >= MAX_SOLVES - 1:
+            break
+        upper = lab_caps(state, result, heights)
+        step = bounded_step(sens.jacobian, miss, values, upper)
+        if np.max(np.abs(step)) <= STALLED:  # the bounds hold the knots where they are
+            shortfall = _shortfall(order, sens, goal, values, tolerance, upper)
+            break
+        trial = values + step
+        moved = with_profile(state, trial)
+        outcome = relax(moved, body, settings)
+        solves += 1
+        values, state, result = trial, moved.with_positions(outcome.final.x), outcome
+    if shortfall is None and not np.all(np.abs(miss) <= tolerance):
+        shortfall = _shortfall(
+            order, sens, goal, values, tolerance, lab_caps(state, result, heights)
+        )
+    return Design(
+        knots=state.case.garment.reduction_profile.keys, values=values, lines=tuple(order),
+        targets=goal, achieved=sens.means, iterates=tuple(iterates), solves=solves,
+        tolerance=tolerance, state=state, shortfall=shortfall, uniform=uniform,
+    )  # fmt: skip
+
+
+def _check_lines(
+    sens: Sensitivity, order: list[str], lines: dict[str, float], state: State, source: str
+) -> None:
+    """`InputError` for a target line beyond the garment (no value there to design)."""
+    if len(sens.lines) == len(order):
+        return
+    beyond = next(name for name in order if name not in sens.lines)
+    raise InputError(
+        f"girth line {beyond!r} at {lines[beyond]:.4g} m is beyond the garment "
+        f"({state.case.garment.bottom:.4g}-{state.case.garment.top:.4g} m); target a line "
+        "the garment covers", source, "targets",
+    )  # fmt: skip
+
+
+def lab_caps(state: State, result: Result, heights: dict[str, float]) -> NDArray[np.float64]:
+    """(K,) float, 1: each knot's largest reduction, the lesser of `BOUNDS`' upper one and the
+    one that strains its row (the row nearest the knot) to the lab curve's last strain
+    eps_lab: a row of rest length L0 (1 - r) stretched to the length it has now holds if
+    (1 + eps)(1 - r) / (1 - r_cap) = 1 + eps_lab, eps its largest weft strain now."""
+    grid = state.grid
+    lab = float(grid.curves[WEFT].knot_strain[-1])
+    strain = result.final.springs.strain[grid.family_slices[WEFT]].reshape(grid.m, -1).max(axis=1)
+    rows = state.row_values("row_reduction")
+    cap_rows = 1.0 - (1.0 + strain) * (1.0 - rows) / (1.0 + lab)
+    profile = state.case.garment.reduction_profile
+    marks = {**state.body.get("landmarks", {}), **state.case.landmarks, **heights}
+    knots = profile.heights(marks)
+    cut = state.row_values("cut_height")
+    nearest = np.abs(cut[None, :] - knots[:, None]).argmin(axis=1)
+    return np.minimum(BOUNDS[1], cap_rows[nearest])
+
+
+def bounded_step(
+    jacobian: NDArray, miss: NDArray, values: NDArray, upper: NDArray
+) -> NDArray[np.float64]:
+    """The Gauss-Newton step of the knots ((K,), 1) for ``miss`` ((L,), Pa) with ``jacobian``
+    ((L, K), Pa), within [`BOUNDS`[0], ``upper``]: a knot the full step takes past a bound is
+    pinned there, and the others solve again for what is left on the lines it does not
+    dominate (`_lines_left`)."""
+    lower = np.full_like(values, BOUNDS[0])
+    pinned = np.zeros(len(values), bool)
+    step = np.zeros_like(values)
+    for _ in range(len(values)):
+        step[pinned] = (
+            np.clip(values[pinned] + step[pinned], lower[pinned], upper[pinned]) - values[pinned]
+        )
+        free = ~pinned
+        rhs = -(miss + jacobian[:, pinned] @ step[pinned])
+        lines = _lines_left(jacobian, pinned)
+        step[free] = (
+            np.linalg.lstsq(jacobian[np.ix_(lines, free)], rhs[lines], rcond=None)[0]
+            if free.any() and lines.any() else 0.0
+        )  # fmt: skip
+        trial = values + step
+        out = free & ((trial < lower - 1e-12) | (trial > upper + 1e-12))
+        if not out.any():
+            break
+        pinned |= out
+    return np.clip(values + step, lower, np.maximum(upper, lower)) - values
+
+
+def _lines_left(jacobian: NDArray, pinned: NDArray[np.bool_]) -> NDArray[np.bool_]:
+    """The lines the free knots still answer to: a pinned knot gives up the line it moves most
+    (else the free knots would trade every other line's target for that line's miss)."""
+    left = np.ones(jacobian.shape[0], bool)
+    for k in np.flatnonzero(pinned):
+        if left.sum() <= 1:
+            break
+        share = np.where(left, np.abs(jacobian[:, k]), -np.inf)
+        left[int(np.argmax(share))] = False
+    return left
+
+
+def _sensitivities(
+    state: State, body: Body, result: Result, lines: dict[str, float]
+) -> Sensitivity:
+    return sensitivities(state, body, result.final, lines, result.factor)
+
+
+def _bound_name(value: float, cap: float) -> str | None:
+    if value <= BOUNDS[0] + 1e-6:
+        return f"at its lower bound {BOUNDS[0]:g} (no reduction)"
+    if value >= cap - 1e-6:
+        if cap < BOUNDS[1] - 1e-6:
+            return f"at {cap:.4g}, where the weft reaches the lab curve's last strain"
+        return f"at its upper bound {BOUNDS[1]:g}"
+    return None
+
+
+def _shortfall(
+    order: list[str], sens: Sensitivity, goal: NDArray, values: NDArray, tolerance: float,
+    upper: NDArray,
+) -> str:  # fmt: skip
+    """One line: the worst line missed, the closest pressure reached, the bound that binds."""
+    miss = sens.means - goal
+    worst = int(np.argmax(np.abs(miss)))
+    at_bound = [
+        f"{knot} {where}"
+        for knot, v, cap in zip(sens.knots, values, upper, strict=True)
+        if (where := _bound_name(float(v), float(cap))) is not None
+    ]
+    binding = "; ".join(at_bound) if at_bound else "no bound binding: the equilibria ran out"
+    return (
+        f"{order[worst]}: target {goal[worst] / MMHG:.2f} mmHg not reached; the closest is "
+        f"{sens.means[worst] / MMHG:.2f} mmHg (tolerance {tolerance / MMHG:.2g} mmHg); "
+        f"reduction {binding}"
+    )

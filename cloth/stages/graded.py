@@ -1,0 +1,161 @@
+"""``cloth design CASE --target LINE=PRESSURE ... -o DIR``: a graded pattern designed to targets
+(`cloth.stages.design`), confirmed from scratch, and written for the pattern maker.
+
+In ``DIR``:
+
+* ``case.yaml``: the case with the designed reduction profile (relative paths resolved from the
+  original case's folder, ``base_dir``);
+* ``design_iterations.csv``: every equilibrium of the loop: its knot values and line means;
+* ``confirmed/``: the designed case relaxed from scratch (``initial.nc``, ``relaxed.nc``,
+  ``result.nc``, ``summary.csv``; with its error estimate where the case asks for one);
+* ``design_confirmed.csv``: per target line, the target, the loop's value, the confirmed value
+  and its estimated discretisation error, whether it is met, the uniform answer, the designed
+  knot values and the equilibria used (mmHg; reductions 1);
+* ``design_profile.png``: per line, the target, the uniform answer and the graded answer;
+* ``pattern.csv``, ``.svg`` and ``.dxf`` (`cloth.files.pattern`; DXF where ezdxf is installed).
+
+A target out of reach writes all of these, marked ``met`` 0, and then ends in one line naming
+the line, the closest pressure and the bound (`InputError`, exit status 2).
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import logging
+from pathlib import Path
+
+import matplotlib.pyplot as plt
+import numpy as np
+import xarray as xr
+import yaml
+
+from cloth.errors import InputError
+from cloth.figures.plots import save_figure
+from cloth.files.body import body_from_record
+from cloth.files.pattern import write_pattern
+from cloth.io import atomic_output
+from cloth.pipeline.config import load_case
+from cloth.pipeline.sweep import write_rows
+from cloth.results.pressure import MMHG
+from cloth.stages.case import initial_state, run_case
+from cloth.stages.design import TOLERANCE, Design, Target, design
+
+log = logging.getLogger(__name__)
+
+
+def design_files(
+    case_path: Path, targets: list[Target], output: Path, tolerance: float = TOLERANCE,
+    base_dir: Path | None = None,
+) -> Design:  # fmt: skip
+    """The design of ``case_path`` to ``targets`` and its files in ``output`` (module
+    docstring); `InputError` after writing them when a target is out of reach."""
+    if not targets:
+        raise InputError("give at least one target, e.g. --target waist=20", field="--target")
+    case = load_case(case_path)
+    base_dir = Path(case_path).parent if base_dir is None else Path(base_dir)
+    state = initial_state(case, base_dir, str(case_path))
+    body = body_from_record(state.body)
+    result = design(state, body, targets, tolerance, str(case_path))
+    output.mkdir(parents=True, exist_ok=True)
+    data = result.state.case.to_dict()
+    data["garment"]["reduction"] = result.reduction()
+    designed = output / "case.yaml"
+    with atomic_output(designed) as tmp:
+        tmp.write_text(yaml.safe_dump(data, sort_keys=False))
+    _iterations(result, output / "design_iterations.csv")
+    run_case(designed, output / "confirmed", {}, base_dir, stop_after="aggregate")
+    confirmed = xr.load_dataset(output / "confirmed" / "result.nc")
+    rows = _confirmed_rows(result, confirmed)
+    write_rows(rows, output / "design_confirmed.csv", list(rows[0]))
+    plot_profile_design(rows, output / "design_profile.png")
+    formats = ["csv", "svg"] + (["dxf"] if importlib.util.find_spec("ezdxf") else [])
+    write_pattern(output / "confirmed" / "result.nc", output / "pattern.csv", formats=formats)
+    met = all(row["met"] for row in rows)
+    log.info(
+        "design: %s in %d equilibria (%d in the loop, 1 confirmation)%s",
+        "every target met" if met else "NOT every target met", result.solves + 1,
+        result.solves, "" if "dxf" in formats else "; no DXF (pip install 'cloth[pattern]')",
+    )  # fmt: skip
+    if result.shortfall is not None:
+        raise InputError(result.shortfall, case_path, "targets")
+    if not met:
+        worst = max(rows, key=lambda row: abs(row["confirmed_mmHg"] - row["target_mmHg"]))
+        raise InputError(
+            f"{worst['landmark']}: confirmed at {worst['confirmed_mmHg']:.2f} mmHg from scratch, "
+            f"target {worst['target_mmHg']:.2f} +- {tolerance / MMHG:.2g} mmHg; the loop's "
+            "equilibrium and the one from scratch differ (see design_confirmed.csv)",
+            case_path, "targets",
+        )  # fmt: skip
+    return result
+
+
+def _iterations(result: Design, path: Path) -> None:
+    rows = []
+    for k, it in enumerate(result.iterates, start=1):
+        row: dict[str, object] = {"equilibrium": k, "newton_iterations": it.iterations}
+        row.update(
+            {f"reduction_{key}": float(v) for key, v in zip(result.knots, it.values, strict=True)}
+        )
+        row.update(
+            {
+                f"{line}_mmHg": float(p) / MMHG
+                for line, p in zip(result.lines, it.means, strict=True)
+            }
+        )
+        rows.append(row)
+    header = list(dict.fromkeys(k for row in rows for k in row))
+    write_rows(rows, path, header)
+
+
+def _confirmed_rows(result: Design, confirmed: xr.Dataset) -> list[dict[str, object]]:
+    names = [str(v) for v in confirmed["landmark"].values]
+    error = (
+        confirmed["pressure_mean_error"].values
+        if "pressure_mean_error" in confirmed
+        else np.full(len(names), np.nan)
+    )
+    rows = []
+    for k, line in enumerate(result.lines):
+        at = names.index(line)
+        value = float(confirmed["pressure_mean"].values[at])
+        row: dict[str, object] = {
+            "landmark": line,
+            "height_m": float(confirmed["landmark_height"].values[at]),
+            "target_mmHg": result.targets[k] / MMHG,
+            "designed_mmHg": result.achieved[k] / MMHG,
+            "confirmed_mmHg": value / MMHG,
+            "confirmed_error_mmHg": float(error[at]) / MMHG,
+            "tolerance_mmHg": result.tolerance / MMHG,
+            "met": int(abs(value - result.targets[k]) <= result.tolerance),
+        }
+        if result.uniform is not None:
+            row["uniform_reduction"] = result.uniform[0]
+            row["uniform_mmHg"] = float(result.uniform[1][k]) / MMHG
+        row.update({f"reduction_{key}": float(v) for key, v in zip(result.knots, result.values,
+                                                                     strict=True)})  # fmt: skip
+        row["equilibria"] = result.solves + 1
+        rows.append(row)
+    return rows
+
+
+def plot_profile_design(rows: list[dict[str, object]], path: Path) -> Path:
+    """Per girth line (by height): the target, the uniform answer and the confirmed graded one
+    with its estimated error, mmHg."""
+    height = np.array([row["height_m"] for row in rows], dtype=float)
+    fig, ax = plt.subplots(figsize=(5.5, 4.2), layout="constrained")
+    ax.plot([row["target_mmHg"] for row in rows], height, "k*", ms=11, label="target")
+    if "uniform_mmHg" in rows[0]:
+        ax.plot([row["uniform_mmHg"] for row in rows], height, "s--", color="tab:gray",
+                label=f"uniform reduction {float(rows[0]['uniform_reduction']):.3f}")  # fmt: skip
+    error = np.array([row["confirmed_error_mmHg"] for row in rows], dtype=float)
+    ax.errorbar([row["confirmed_mmHg"] for row in rows], height,
+                xerr=np.where(np.isfinite(error), error, 0.0), fmt="o-", color="tab:red",
+                capsize=3, label="graded pattern (confirmed)")  # fmt: skip
+    for row, z in zip(rows, height, strict=True):
+        ax.annotate(str(row["landmark"]), (float(row["target_mmHg"]), z), xytext=(6, 4),
+                    textcoords="offset points", fontsize=8)  # fmt: skip
+    ax.set_xlabel("mean pressure on the girth line [mmHg]")
+    ax.set_ylabel("height [m]")
+    ax.set_title("graded pattern to a pressure profile", fontsize=10)
+    ax.legend(fontsize=8)
+    return save_figure(fig, path)
