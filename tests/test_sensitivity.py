@@ -73,4 +73,3 @@ def test_adjoint_equals_central_differences(body, edges):
     # and bust are its edge rows, which press nothing when the edges are fixed)
     inner = [1] if body != "torso" else [1, 2]
     assert np.all(np.diag(sens.jacobian)[inner] > 0)
-
