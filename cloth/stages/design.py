@@ -185,50 +185,66 @@ def design(
     values = np.asarray(state.case.garment.reduction_profile.values, dtype=float)
     result = relax(state, body, settings)
     state = state.with_positions(result.final.x)
-    solves, iterates, shortfall, uniform = 1, [], None, None
-    if not graded:  # the best uniform reduction first: the answer to compare with, and the start
-        sens = _sensitivities(state, body, result, lines)
-        _check_lines(sens, order, lines, state, source)
-        iterates.append(Iterate(values.copy(), sens.means.copy(), result.iterations))
-        upper = float(lab_caps(state, result, heights).min())
-        slope = sens.jacobian.sum(axis=1, keepdims=True)
-        shift = float(np.linalg.lstsq(slope, goal - sens.means, rcond=None)[0][0])
-        values = np.full_like(values, np.clip(values[0] + shift, BOUNDS[0], upper))
-        moved = with_profile(state, values)
-        result = relax(moved, body, settings)
-        state, solves = moved.with_positions(result.final.x), 2
-        uniform = (float(values[0]), line_means(state, result, lines))
-    while True:
-        sens = _sensitivities(state, body, result, lines)
-        _check_lines(sens, order, lines, state, source)
+    sens = _sensitivities(state, body, result, lines)
+    _check_lines(sens, order, lines, state, source)
+    solves, iterates, shortfall, uniform = 1, [_iterate(values, sens, result)], None, None
+    if not graded:
+        caps = lab_caps(state, result, heights)
+        uniform = _uniform(state, body, settings, sens, goal, caps, lines)
+        solves += 1
+    pinned, upper = np.zeros(len(values), bool), np.full(len(values), BOUNDS[1])
+    while True:  # Gauss-Newton from the case's own equilibrium
         miss = sens.means - goal
-        iterates.append(Iterate(values.copy(), sens.means.copy(), result.iterations))
-        log.info(
-            "design: solve %d, knots %s, lines %s mmHg (targets %s)", solves,
-            np.round(values, 4).tolist(), np.round(sens.means / MMHG, 2).tolist(),
-            np.round(goal / MMHG, 2).tolist(),
-        )  # fmt: skip
+        _log(solves, values, sens.means, goal)
         if np.all(np.abs(miss) <= AIM * tolerance) or solves >= MAX_SOLVES - 1:
             break
         upper = lab_caps(state, result, heights)
-        step = bounded_step(sens.jacobian, miss, values, upper)
-        if np.max(np.abs(step)) <= STALLED:  # the bounds hold the knots where they are
-            shortfall = _shortfall(order, sens, goal, values, tolerance, upper)
+        step, pinned, left = bounded_step(sens.jacobian, miss, values, upper)
+        held = pinned.any() and np.all(np.abs(miss[left]) <= AIM * tolerance)
+        if held or np.max(np.abs(step)) <= STALLED:  # the bounds hold the knots where they are
             break
-        trial = values + step
-        moved = with_profile(state, trial)
-        outcome = relax(moved, body, settings)
+        values = values + step
+        moved = with_profile(state, values)
+        result = relax(moved, body, settings)
         solves += 1
-        values, state, result = trial, moved.with_positions(outcome.final.x), outcome
-    if shortfall is None and not np.all(np.abs(miss) <= tolerance):
-        shortfall = _shortfall(
-            order, sens, goal, values, tolerance, lab_caps(state, result, heights)
-        )
+        state = moved.with_positions(result.final.x)
+        sens = _sensitivities(state, body, result, lines)
+        iterates.append(_iterate(values, sens, result))
+    if not np.all(np.abs(sens.means - goal) <= tolerance):
+        shortfall = _shortfall(order, sens, goal, values, tolerance, pinned, upper)
     return Design(
         knots=state.case.garment.reduction_profile.keys, values=values, lines=tuple(order),
         targets=goal, achieved=sens.means, iterates=tuple(iterates), solves=solves,
         tolerance=tolerance, state=state, shortfall=shortfall, uniform=uniform,
     )  # fmt: skip
+
+
+def _iterate(values: NDArray, sens: Sensitivity, result: Result) -> Iterate:
+    return Iterate(values.copy(), sens.means.copy(), result.iterations)
+
+
+def _log(solves: int, values: NDArray, means: NDArray, goal: NDArray) -> None:
+    log.info(
+        "design: equilibrium %d, knots %s, lines %s mmHg (targets %s)", solves,
+        np.round(values, 4).tolist(), np.round(means / MMHG, 2).tolist(),
+        np.round(goal / MMHG, 2).tolist(),
+    )  # fmt: skip
+
+
+def _uniform(
+    state: State, body: Body, settings: Settings, sens: Sensitivity, goal: NDArray,
+    upper: NDArray, lines: dict[str, float],
+) -> tuple[float, NDArray[np.float64]]:  # fmt: skip
+    """The uniform answer (`Design.uniform`): one Gauss-Newton step of the case's uniform
+    reduction alone, to the least squares of the misses, within the bounds; its equilibrium's
+    line means (one equilibrium, warm-started)."""
+    r0 = float(state.case.garment.reduction_profile.values[0])
+    slope = sens.jacobian.sum(axis=1, keepdims=True)
+    shift = float(np.linalg.lstsq(slope, goal - sens.means, rcond=None)[0][0])
+    r = float(np.clip(r0 + shift, BOUNDS[0], upper.min()))
+    moved = with_profile(state, np.full(len(sens.knots), r))
+    result = relax(moved, body, settings)
+    return r, line_means(moved.with_positions(result.final.x), result, lines)
 
 
 def _check_lines(
@@ -265,11 +281,12 @@ def lab_caps(state: State, result: Result, heights: dict[str, float]) -> NDArray
 
 def bounded_step(
     jacobian: NDArray, miss: NDArray, values: NDArray, upper: NDArray
-) -> NDArray[np.float64]:
+) -> tuple[NDArray[np.float64], NDArray[np.bool_], NDArray[np.bool_]]:
     """The Gauss-Newton step of the knots ((K,), 1) for ``miss`` ((L,), Pa) with ``jacobian``
     ((L, K), Pa), within [`BOUNDS`[0], ``upper``]: a knot the full step takes past a bound is
     pinned there, and the others solve again for what is left on the lines it does not
-    dominate (`_lines_left`)."""
+    dominate (`_lines_left`). Returns the step, the pinned knots (K,) and the lines the free
+    knots answer to (L,)."""
     lower = np.full_like(values, BOUNDS[0])
     pinned = np.zeros(len(values), bool)
     step = np.zeros_like(values)
@@ -289,7 +306,8 @@ def bounded_step(
         if not out.any():
             break
         pinned |= out
-    return np.clip(values + step, lower, np.maximum(upper, lower)) - values
+    step = np.clip(values + step, lower, np.maximum(upper, lower)) - values
+    return step, pinned, _lines_left(jacobian, pinned)
 
 
 def _lines_left(jacobian: NDArray, pinned: NDArray[np.bool_]) -> NDArray[np.bool_]:
@@ -310,31 +328,28 @@ def _sensitivities(
     return sensitivities(state, body, result.final, lines, result.factor)
 
 
-def _bound_name(value: float, cap: float) -> str | None:
-    if value <= BOUNDS[0] + 1e-6:
-        return f"at its lower bound {BOUNDS[0]:g} (no reduction)"
-    if value >= cap - 1e-6:
-        if cap < BOUNDS[1] - 1e-6:
-            return f"at {cap:.4g}, where the weft reaches the lab curve's last strain"
-        return f"at its upper bound {BOUNDS[1]:g}"
-    return None
-
-
 def _shortfall(
     order: list[str], sens: Sensitivity, goal: NDArray, values: NDArray, tolerance: float,
-    upper: NDArray,
+    pinned: NDArray[np.bool_], upper: NDArray,
 ) -> str:  # fmt: skip
-    """One line: the worst line missed, the closest pressure reached, the bound that binds."""
+    """One line: the worst line missed, the closest pressure reached, the bounds that bind."""
     miss = sens.means - goal
     worst = int(np.argmax(np.abs(miss)))
-    at_bound = [
-        f"{knot} {where}"
-        for knot, v, cap in zip(sens.knots, values, upper, strict=True)
-        if (where := _bound_name(float(v), float(cap))) is not None
-    ]
-    binding = "; ".join(at_bound) if at_bound else "no bound binding: the equilibria ran out"
+    binding = []
+    for knot, value, cap in zip(
+        np.asarray(sens.knots)[pinned], values[pinned], upper[pinned], strict=True
+    ):
+        if value <= BOUNDS[0] + 1e-9:
+            binding.append(f"{knot} at its lower bound {BOUNDS[0]:g} (no reduction)")
+        elif cap < BOUNDS[1]:
+            binding.append(
+                f"{knot} at {value:.4g}, where the weft reaches the lab curve's last strain"
+            )
+        else:
+            binding.append(f"{knot} at its upper bound {BOUNDS[1]:g}")
+    why = "; ".join(binding) if binding else "no bound binding: the equilibria ran out"
     return (
         f"{order[worst]}: target {goal[worst] / MMHG:.2f} mmHg not reached; the closest is "
         f"{sens.means[worst] / MMHG:.2f} mmHg (tolerance {tolerance / MMHG:.2g} mmHg); "
-        f"reduction {binding}"
+        f"reduction {why}"
     )
