@@ -106,8 +106,9 @@ def _run_design(folder: Path, grid: list[int], targets: list[str]) -> subprocess
     case = {"material": "powernet", "body": {"torso": {"size": "M"}},
             "garment": {"bottom": 0.86, "top": 1.22, "grid": grid, "reduction": 0.2}}  # fmt: skip
     (folder / "case.yaml").write_text(yaml.safe_dump(case))
-    command = [sys.executable, "-m", "cloth", "--log-level", "ERROR", "design", str(folder / "case.yaml"), "-o",
-               str(folder / "out")] + [f"--target={t}" for t in targets]  # fmt: skip
+    command = [sys.executable, "-m", "cloth", "--log-level", "ERROR", "design",
+               str(folder / "case.yaml"), "-o", str(folder / "out")]  # fmt: skip
+    command += [f"--target={t}" for t in targets]
     return subprocess.run(command, capture_output=True, text=True, cwd=ROOT)
 
 
