@@ -29,6 +29,7 @@ include: "workflow/rules/relax.smk"
 include: "workflow/rules/aggregate.smk"
 include: "workflow/rules/figures.smk"
 include: "workflow/rules/sweep.smk"
+include: "workflow/rules/design.smk"
 
 
 rule all:

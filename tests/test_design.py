@@ -28,8 +28,9 @@ from cloth.io import write_netcdf
 from cloth.materials.curves import Fabric, StressStrainCurve
 from cloth.materials.labtables import Material
 from cloth.results.pressure import MMHG
+from cloth.results.targets import Target
 from cloth.stages.case import initial_state
-from cloth.stages.design import MAX_SOLVES, Target, design
+from cloth.stages.design import MAX_SOLVES, design
 
 ROOT = Path(__file__).resolve().parents[1]
 RADIUS = 0.1

@@ -27,12 +27,14 @@ OUTPUTS = ("output", "plot", "csv", "summary", "curvature", "body_plot")
 
 def check_outputs(args: argparse.Namespace) -> None:
     """Refuse in one line an output that cannot be written where it is asked for, before any
-    work (`cloth.paths.output_path`): ``-o`` of ``run`` and ``plot`` is a folder, the others
-    files."""
+    work (`cloth.paths.output_path`): ``-o`` of ``run`` and ``plot``, and of ``design`` with a
+    case, is a folder, the others files."""
     for dest in OUTPUTS:
         value = getattr(args, dest, None)
         if value is not None:
             folder = dest == "output" and getattr(args, "output_folder", False)
+            if args.command == "design":  # a case's design fills a folder, a sweep's a file
+                folder = dest == "output" and args.input.suffix != ".nc"
             output_path(value, "--" + dest.replace("_", "-"), folder)
 
 

@@ -17,10 +17,10 @@ from cloth.io import atomic_output, read_netcdf
 from cloth.materials.labtables import IngestOptions
 from cloth.pipeline.config import load_case, validate_case
 from cloth.results.pressure import MMHG
+from cloth.results.targets import Target
 from cloth.stages import figures, view, write_result
 from cloth.stages.bodycheck import describe
 from cloth.stages.case import SOLVER_KEYS, predeform_file, relax_file, run_case
-from cloth.stages.design import Target
 from cloth.stages.graded import design_files
 from cloth.stages.inputs import ingest_material, torso_file
 from cloth.stages.sweep import confirm_file, design_file, sweep_files
@@ -176,7 +176,7 @@ def _design(args: argparse.Namespace) -> int:
         raise InputError(f"must be a positive number of mmHg, got {args.tolerance}",
                          field="--tolerance")  # fmt: skip
     targets = [Target.parse(text) for text in args.target]
-    design_files(args.input, targets, args.output, args.tolerance * MMHG)
+    design_files(args.input, targets, args.output, args.tolerance * MMHG, args.base_dir)
     return 0
 
 

@@ -355,6 +355,10 @@ def build_parser() -> argparse.ArgumentParser:
         "waist=20 or hip=2.0kPa; repeat per line",
     )  # fmt: skip
     de.add_argument(
+        "--base-dir", type=_path, help="with a case: folder relative paths in the case are "
+        "relative to (default: the case file's folder)",
+    )  # fmt: skip
+    de.add_argument(
         "--tolerance", type=float, default=0.5,
         help="with a case: how near every line must come to its target, mmHg (default 0.5)",
     )  # fmt: skip

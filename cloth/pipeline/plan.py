@@ -28,6 +28,7 @@ from cloth.errors import InputError
 from cloth.paths import input_file
 from cloth.pipeline.config import validate_case
 from cloth.pipeline.variants import Variant, sweep_variants
+from cloth.results.targets import Target
 
 #: Where the workflow writes its results, relative to the working directory.
 RESULTS = "results"
@@ -103,10 +104,12 @@ class Plan:
     cases: dict[str, Case] = field(default_factory=dict)
     sweep: dict[str, dict] = field(default_factory=dict)
     index: list[dict] = field(default_factory=list)
+    #: Profile designs: name -> (start case, ``--target`` texts, tolerance in mmHg).
+    designs: dict[str, tuple[Case, list[str], float]] = field(default_factory=dict)
 
-    def case(self, name: str, block: dict | None = None) -> Case:
+    def case(self, name: str, block: dict | None = None, where: str = "cases") -> Case:
         """Case ``name`` of the config (or ``block``) with its material as the ingested file,
-        validated."""
+        validated; errors name the config key ``where``.``name``."""
         config = self.config
         if block is None:
             block = dict(config.get("cases", {})[name])
@@ -120,10 +123,10 @@ class Plan:
             raise InputError(
                 f"material {material!r} is not defined under materials "
                 f"({', '.join(sorted(config['materials']))})",
-                "config", f"cases.{name}.material",
+                "config", f"{where}.{name}.material",
             )  # fmt: skip
         block["material"] = material_file("nc", material)
-        return validate_case(block, f"config: cases.{name}")
+        return validate_case(block, f"config: {where}.{name}")
 
     def sweep_block(
         self, material: str, body: str, reduction: float, variant: Variant | None = None
@@ -202,6 +205,54 @@ def _expand_sweep(plan: Plan) -> None:
                     plan.sweep[name] = plan.sweep_block(material, body, reduction, variant)
                     plan.index.append({"case": name, "material": material, "body": body,
                                        "reduction": reduction, **keys})  # fmt: skip
+
+
+def profile_design(plan: Plan, name: str) -> tuple[Case, list[str], float]:
+    """A profile design of the config (``profile_designs``): its start case (the sweep's
+    garment and solver, the design's garment keys over them, its start reduction), its
+    targets as ``cloth design --target`` texts and its tolerance (mmHg)."""
+    config = plan.config
+    design = config["profile_designs"][name]
+    where = f"profile_designs.{name}"
+    if design["body"] not in config.get("bodies", {}):
+        raise InputError(
+            f"body {design['body']!r} is not defined under bodies "
+            f"({', '.join(sorted(config.get('bodies', {}))) or 'none defined'})",
+            "config", f"{where}.body",
+        )  # fmt: skip
+    if "reduction" in design.get("garment", {}):
+        raise InputError("the design sets the reduction; use start_reduction", "config",
+                         f"{where}.garment.reduction")  # fmt: skip
+    sweep = config.get("sweep") or {}
+    block = {
+        "material": design["material"],
+        "body": local_body(config["bodies"][design["body"]], design["body"], plan.base),
+        "garment": {**sweep.get("garment", {}), **design.get("garment", {}),
+                    "reduction": design.get("start_reduction", 0.2)},
+        "solver": sweep.get("solver", {}),
+    }  # fmt: skip
+    targets = []
+    for number, text in enumerate(design["targets"]):
+        try:
+            Target.parse(text)
+        except InputError as exc:
+            raise InputError(exc.detail, "config", f"{where}.targets.{number}") from None
+        targets.append(text)
+    lines = [text.split("=", 1)[0].strip() for text in targets]
+    if len(set(lines)) != len(lines):
+        raise InputError("a girth line is targeted twice; give each line once", "config",
+                         f"{where}.targets")  # fmt: skip
+    return (
+        plan.case(name, block, "profile_designs"),
+        targets,
+        float(design.get("tolerance_mmHg", 0.5)),
+    )
+
+
+def design_file(name: str, design: str = "{design}") -> str:
+    """A file of a profile design: ``start.yaml``, ``design_confirmed.csv``,
+    ``design_profile.png``, ``pattern.csv``, ``pattern.svg``, ``case.yaml``, ``confirmed/``."""
+    return f"{RESULTS}/designs/{design}/{name}"
 
 
 def check_targets(config: dict) -> None:
@@ -284,6 +335,7 @@ def make_plan(config: dict, base: str | Path | None = None) -> Plan:
             raise InputError("a case of this name is also in the sweep", "config", f"cases.{name}")
     plan.cases = {name: plan.case(name) for name in config.get("cases", {})}
     plan.cases.update({name: plan.case(name, block) for name, block in plan.sweep.items()})
+    plan.designs = {name: profile_design(plan, name) for name in config.get("profile_designs", {})}
     return plan
 
 

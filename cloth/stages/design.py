@@ -24,7 +24,6 @@ the bound that binds (`Design.shortfall`).
 from __future__ import annotations
 
 import logging
-import re
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -39,6 +38,7 @@ from cloth.garment.state import State
 from cloth.results.landmarks import landmark_heights
 from cloth.results.pressure import MMHG
 from cloth.results.sensitivity import Sensitivity, sensitivities
+from cloth.results.targets import Target
 from cloth.solvers.relax import Result, relax
 from cloth.stages.levels import girth_marks
 
@@ -55,31 +55,6 @@ MAX_SOLVES = 8
 #: The loop aims within this share of the tolerance while it has equilibria left, so that the
 #: confirmation from scratch (another equilibrium of the same pattern) lands within it too.
 AIM = 0.2
-UNITS = {"mmhg": MMHG, "kpa": 1e3, "pa": 1.0}
-
-
-@dataclass(frozen=True)
-class Target:
-    """A girth line's target mean pressure, Pa."""
-
-    line: str
-    pressure: float
-
-    @classmethod
-    def parse(cls, text: str, field: str = "--target") -> Target:
-        """``waist=20`` (mmHg), ``waist=20mmHg``, ``waist=2.6kPa`` or ``waist=2600Pa``."""
-        match = re.fullmatch(r"\s*([^=\s]+)\s*=\s*([-+0-9.eE]+)\s*(mmHg|kPa|Pa)?\s*", text)
-        try:
-            value = float(match.group(2)) if match else float("nan")
-        except ValueError:
-            value = float("nan")
-        if not match or not np.isfinite(value) or value <= 0:
-            raise InputError(
-                f"{text!r} is not a target; write LINE=PRESSURE with a positive pressure in "
-                "mmHg (default), kPa or Pa, e.g. waist=20 or hip=2.0kPa", field=field,
-            )  # fmt: skip
-        unit = (match.group(3) or "mmHg").lower()
-        return cls(match.group(1), value * UNITS[unit])
 
 
 @dataclass(frozen=True)

@@ -37,8 +37,9 @@ from cloth.io import atomic_output
 from cloth.pipeline.config import load_case
 from cloth.pipeline.sweep import write_rows
 from cloth.results.pressure import MMHG
+from cloth.results.targets import Target
 from cloth.stages.case import initial_state, run_case
-from cloth.stages.design import TOLERANCE, Design, Target, design
+from cloth.stages.design import TOLERANCE, Design, design
 
 log = logging.getLogger(__name__)
 

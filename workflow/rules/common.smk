@@ -12,6 +12,7 @@ from cloth.pipeline.plan import body_files as plan_body_files
 from cloth.pipeline.plan import (
     body_file,
     case_file,
+    design_file,
     make_plan,
     material_file,
     sweep_file,
@@ -41,6 +42,7 @@ def body_json(wildcards):
 
 PLAN = make_plan(config, workflow.basedir)
 SWEEP_BLOCKS, SWEEP_INDEX, CASES = PLAN.sweep, PLAN.index, PLAN.cases
+DESIGNS = PLAN.designs
 
 
 def case_block(name):
@@ -118,8 +120,14 @@ def all_outputs():
     materials = sorted(config["materials"])
     files = ["initial.nc", "initial.png", "relaxed.nc", "result.nc", "summary.csv"]
     files += ["figures/stress_weft.png", *(["garment.html"] if VIEW else [])]
+    designs = [
+        design_file(name, design)
+        for design in sorted(DESIGNS)
+        for name in ("design_confirmed.csv", "design_profile.png", "pattern.svg")
+    ]
     return (
         sweep
+        + designs
         + [material_file(suffix, m) for m in materials for suffix in ("nc", "png")]
         + [case_file(name, case) for case in sorted(CASES) for name in files]
     )
@@ -150,3 +158,20 @@ def design_answer(wildcards):
 
 
 SURFACE_RESOURCES = surface_resources()
+
+
+def design_case_json(wildcards):
+    """A profile design's start case, for `cloth case write --json`."""
+    return json.dumps(DESIGNS[wildcards.design][0].to_dict(), sort_keys=True)
+
+
+def design_targets(wildcards):
+    return " ".join(f"--target={text}" for text in DESIGNS[wildcards.design][1])
+
+
+def design_material(wildcards):
+    return DESIGNS[wildcards.design][0].material
+
+
+def design_body_files(wildcards):
+    return plan_body_files(DESIGNS[wildcards.design][0])
