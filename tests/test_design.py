@@ -22,6 +22,7 @@ import pytest
 import xarray as xr
 import yaml
 
+from cloth.errors import InputError
 from cloth.files.body import body_from_record
 from cloth.files.material import load_fabric, material_dataset
 from cloth.io import write_netcdf
@@ -167,3 +168,15 @@ def test_a_bad_target_is_one_line(tmp_path, text):
     done = _run_design(tmp_path, [12, 6], [text])
     assert done.returncode == 2 and "--target" in done.stderr
     assert len(done.stderr.strip().splitlines()) == 1 and not (tmp_path / "out").exists()
+
+
+def test_a_design_on_soft_tissue_is_refused_before_any_equilibrium():
+    """The adjoint takes a rigid smooth body: tissue is named in one line, nothing solved."""
+    case = {
+        "material": "powernet", "landmarks": LINES,
+        "body": {"cylinder": {"radius": RADIUS}, "tissue": {"thickness": 0.01, "modulus": 2e4}},
+        "garment": {"bottom": 0.1, "top": 0.4, "grid": [12, 5], "reduction": 0.2},
+    }  # fmt: skip
+    state = initial_state(case, ROOT)
+    with pytest.raises(InputError, match=r"body\.tissue"):
+        design(state, body_from_record(state.body), [Target("middle", 20 * MMHG)])

@@ -39,7 +39,9 @@ from cloth.results.landmarks import landmark_heights
 from cloth.results.pressure import MMHG
 from cloth.results.sensitivity import Sensitivity, sensitivities
 from cloth.results.targets import Target
+from cloth.solvers.problem import Problem
 from cloth.solvers.relax import Result, relax
+from cloth.solvers.stability import counts
 from cloth.stages.levels import girth_marks
 
 log = logging.getLogger(__name__)
@@ -145,6 +147,16 @@ def design(
     """The design loop (module docstring) from the pre-deformed ``state`` of a case on
     ``body``; `InputError` naming ``source`` for a target line the body does not have."""
     settings = replace(state.case.solver, progress=False)
+    if not counts(Problem.of(state, body)):
+        field = (
+            "body.tissue" if state.skin.tissue is not None
+            else "contact.friction" if state.skin.contact.friction > 0 else "body.surface"
+        )  # fmt: skip
+        raise InputError(
+            "the design's sensitivities take a smooth body without tissue or friction; remove "
+            "the skin model, or give the mesh surface: smooth (docs/solvers.md, Sensitivities)",
+            source, field,
+        )  # fmt: skip
     heights = landmark_heights(state)
     unknown = [t.line for t in targets if t.line not in heights]
     if unknown:
