@@ -4,6 +4,7 @@ and the cut pattern written by ``cloth pattern`` as CSV, SVG and DXF."""
 from __future__ import annotations
 
 import csv
+import json
 import subprocess
 import sys
 import xml.etree.ElementTree as ET
@@ -53,6 +54,7 @@ def test_rows_follow_the_monotone_cubic_through_the_knots(graded):
         ds["rest_circumference"].values, (1 - expected) * 2 * np.pi * RADIUS, rtol=1e-12
     )
     assert ds["rest_circumference"].attrs["units"] == "m"
+    assert json.loads(ds["row_reduction"].attrs["profile"]) == KNOTS
 
 
 def test_a_one_knot_profile_is_the_uniform_reduction(tmp_path):

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import csv
 import io as _io
+import json
 import subprocess
 from pathlib import Path
 
@@ -190,9 +191,12 @@ def pattern_variables(state: State) -> dict[str, xr.Variable]:
         out["cut_height"] = variable("row", cut, "m", "body height the row was cut for")
     reduction = state.row_values("row_reduction")
     if reduction is not None:
+        profile = state.case.garment.reduction_profile
         out["row_reduction"] = variable(
-            "row", reduction, "1", "reduction of the row's rest circumference from the body's girth"
-        )
+            "row", reduction, "1", "reduction of the row's rest circumference from the hull girth",
+            profile=json.dumps(profile.to_block() if profile is not None else None),
+            interpolation="monotone cubic (PCHIP) through the knots, held beyond the end knots",
+        )  # fmt: skip
     return out
 
 
