@@ -65,10 +65,14 @@ def schema_message(error: jsonschema.ValidationError) -> str:
 
 def _branch_of(error: jsonschema.ValidationError) -> jsonschema.ValidationError | None:
     """Of a ``oneOf`` the value failed, the branch of the value's own type that it failed
-    (``reduction: 1.2`` is a number too big, not a wrong form), else None."""
+    (``reduction: 1.2`` is a number too big, not a wrong form), else None: where the value
+    matches no branch's type, or only a constant's (``grid: aut``), the forms are described."""
     if error.validator != "oneOf" or not error.context:
         return None
-    same_type = [e for e in error.context if not (e.validator == "type" and not e.relative_path)]
+    same_type = [
+        e for e in error.context
+        if not (e.validator in ("type", "const", "enum") and not e.relative_path)
+    ]  # fmt: skip
     branches = {e.relative_schema_path[0] for e in error.context if e.relative_schema_path}
     wrong_type = {
         e.relative_schema_path[0] for e in error.context
