@@ -180,3 +180,20 @@ def test_a_design_on_soft_tissue_is_refused_before_any_equilibrium():
     state = initial_state(case, ROOT)
     with pytest.raises(InputError, match=r"body\.tissue"):
         design(state, body_from_record(state.body), [Target("middle", 20 * MMHG)])
+
+
+def test_a_target_at_a_height_becomes_a_girth_line(tmp_path):
+    """A target profile over height (``0.25=20``): the line at 0.25 m joins the case's lines
+    and gets Laplace's reduction, as a named one does."""
+    case = {
+        "material": str(_soft_warp(tmp_path)), "body": {"cylinder": {"radius": RADIUS}},
+        "garment": {"bottom": 0.1, "top": 0.4, "grid": [N, 13], "reduction": 0.2,
+                    "error_estimate": False},
+        "solver": {"tolerance": 1.0e-12},
+    }  # fmt: skip
+    state = initial_state(case, ROOT)
+    result = design(state, body_from_record(state.body), [Target.parse("0.25=20")], 0.01 * MMHG)
+    assert result.lines == ("0.25",) and result.state.case.landmarks == {"0.25": 0.25}
+    fabric = load_fabric(case["material"], ROOT)
+    expected = _laplace_reduction(fabric, 20 * MMHG, 0.0)
+    assert result.values[0] == pytest.approx(expected, rel=1e-3)

@@ -2,8 +2,9 @@
 
 Controls: the knot values of the case's reduction profile (`cloth.case.profile`); a case with
 one uniform reduction gets a knot at every target line, all at that reduction. Targets: a mean
-pressure per girth line (`Target`), met when every line is within the tolerance (default 0.5
-mmHg).
+pressure per girth line (`Target`: a line the body names, or a height in m, which becomes a
+line of the case: a target profile over height), met when every line is within the tolerance
+(default 0.5 mmHg).
 
 A case of one uniform reduction first takes one Gauss-Newton step of that reduction alone, to
 the uniform reduction whose misses have the least sum of squares: its equilibrium is the
@@ -140,6 +141,26 @@ def _start(state: State, body: Body, targets: list[Target], source: str) -> Stat
     return predeform(case, state.fabric, body, state.body, source)
 
 
+def _height_lines(state: State, body: Body, targets: list[Target], source: str) -> State:
+    """``state`` with a girth line at each target given at a height (``1.05=18``: a target
+    profile over height) that the body does not name: the case's ``landmarks`` get it, so the
+    loop, the confirmation and the summary all report it."""
+    known = landmark_heights(state)
+    extra = {t.line: float(t.line) for t in targets if t.line not in known and _is_height(t.line)}
+    if not extra:
+        return state
+    data = state.case.to_dict()
+    data["landmarks"] = {**(data.get("landmarks") or {}), **extra}
+    return predeform(Case.from_dict(data, source), state.fabric, body, state.body, source)
+
+
+def _is_height(text: str) -> bool:
+    try:
+        return np.isfinite(float(text))
+    except ValueError:
+        return False
+
+
 def design(
     state: State, body: Body, targets: list[Target], tolerance: float = TOLERANCE,
     source: str = "case",
@@ -157,6 +178,7 @@ def design(
             "the skin model, or give the mesh surface: smooth (docs/solvers.md, Sensitivities)",
             source, field,
         )  # fmt: skip
+    state = _height_lines(state, body, targets, source)
     heights = landmark_heights(state)
     unknown = [t.line for t in targets if t.line not in heights]
     if unknown:
