@@ -42,18 +42,16 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
-from scipy.interpolate import CubicSpline, PchipInterpolator
+from numpy.typing import NDArray
+from scipy.interpolate import PchipInterpolator
 
-from cloth.bodies.base import SECTION_POINTS, AnalyticBody
-from cloth.bodies.implicit import ImplicitBody
+from cloth.bodies import sectioned
+from cloth.bodies.sectioned import SectionedBody, ring_mesh
 from cloth.errors import InputError
 
 log = logging.getLogger(__name__)
 
 EXPONENT = 2.4
-#: Heights at which the section profiles are sampled for the splines (0.3 mm apart on 0.5 m).
-PROFILE_SAMPLES = 1601
 DEFAULT_CHART = Path(__file__).resolve().parents[2] / "data" / "bodies" / "size_chart.csv"
 #: The torso's girth lines, bottom to top: its landmarks, named in the size chart.
 LANDMARKS = ("hip", "waist", "underbust", "bust")
@@ -133,21 +131,8 @@ def _profiles(chart: SizeChart):
 
 
 def superellipse(angle: NDArray) -> tuple[NDArray, NDArray]:
-    """Points x, y (each shaped like ``angle``) of |x|^p + |y|^p = 1 (p = `EXPONENT`) at
-    parameter angles (rad): x = sgn(cos t) |cos t|^(2/p), y likewise with sin t."""
-    c, s = np.cos(angle), np.sin(angle)
-    return np.sign(c) * np.abs(c) ** (2 / EXPONENT), np.sign(s) * np.abs(s) ** (2 / EXPONENT)
-
-
-def _unit_ring(angle: NDArray, depth: float, front: float) -> NDArray:
-    """Superellipse ring of half-width 1 (x) and total depth 2*depth split front/back."""
-    x, y = superellipse(angle)
-    y = np.where(y > 0, y * 2 * depth * front, y * 2 * depth * (1 - front))
-    return np.stack([x, y], axis=1)
-
-
-def _perimeter(xy: NDArray) -> float:
-    return float(np.sum(np.linalg.norm(np.roll(xy, -1, axis=0) - xy, axis=1)))
+    """`cloth.bodies.sectioned.superellipse` with the torso's exponent."""
+    return sectioned.superellipse(angle, EXPONENT)
 
 
 def _ring_heights(bottom: float, top: float, rings: int, marks: list[float]) -> NDArray:
@@ -182,152 +167,19 @@ def torso_mesh(
     girth, depth, front = _profiles(chart)
     bottom, top = chart.height["bottom"], chart.height["top"]
     heights = _ring_heights(bottom, top, rings, [chart.height[k] for k in LANDMARKS])
-    angle = 2 * np.pi * np.arange(around) / around
-    ring_list = []
-    for z in heights:
-        unit = _unit_ring(angle, float(depth(z)), float(front(z)))
-        xy = unit * (float(girth(z)) / _perimeter(unit))
-        ring_list.append(np.column_stack([xy, np.full(around, z)]))
-    side = np.concatenate(ring_list)
-    centres = np.array([[0.0, 0.0, bottom], [0.0, 0.0, top]])
-    # keep the cap centres inside the rings (rings are not centred on the axis front/back)
-    centres[0, :2] = ring_list[0][:, :2].mean(axis=0)
-    centres[1, :2] = ring_list[-1][:, :2].mean(axis=0)
-    vertices = np.concatenate([side, centres])
-    n_rings = len(heights)
-    i = np.arange(around)
-    i1 = (i + 1) % around
-    faces = []
-    for r in range(n_rings - 1):
-        a, b = r * around + i, r * around + i1
-        c, d = (r + 1) * around + i, (r + 1) * around + i1
-        # quads split along alternate diagonals (a checkerboard): the same diagonal everywhere
-        # makes the creases run in helices, a handedness the torso does not have, and a
-        # frictionless garment on a coarse mesh turned about the body without end
-        other = (r + i) % 2 == 1
-        first = np.where(other[:, None], np.stack([a, b, c], axis=1), np.stack([a, b, d], axis=1))
-        second = np.where(other[:, None], np.stack([b, d, c], axis=1), np.stack([a, d, c], axis=1))
-        faces += [first, second]
-    low, high = len(side), len(side) + 1
-    faces.append(np.stack([np.full(around, low), i1, i], axis=1))
-    last = (n_rings - 1) * around
-    faces.append(np.stack([np.full(around, high), last + i, last + i1], axis=1))
-    return vertices, np.concatenate(faces).astype(np.int64)
-
-
-def _section(angle: NDArray, a: ArrayLike, front: ArrayLike, back: ArrayLike):
-    """Points x, y (m) of sections of half-width ``a``, front depth ``front`` and back depth
-    ``back`` (m; broadcast against ``angle``) at parameter angles (rad)."""
-    x, y = superellipse(angle)
-    return a * x, np.where(y > 0, y * front, y * back)
-
-
-def _unit_perimeter(depth: NDArray, front: NDArray, count: int) -> NDArray:
-    """Perimeters ((Z,)) of unit rings (half-width 1) of `cloth.bodies.torso._unit_ring` by polygons
-    of ``count`` and 2 ``count`` points, Richardson-extrapolated (the error is O(h^2))."""
-    values = []
-    for k in (count, 2 * count):
-        angle = 2 * np.pi * np.arange(k) / k
-        x, y = _section(
-            angle, 1.0, (2 * depth * front)[:, None], (2 * depth * (1 - front))[:, None]
-        )
-        x = np.broadcast_to(x, y.shape)
-        values.append(np.hypot(np.roll(x, -1, axis=1) - x, np.roll(y, -1, axis=1) - y).sum(axis=1))
-    return (4 * values[1] - values[0]) / 3
+    return ring_mesh(heights, around, girth, depth, front, EXPONENT)
 
 
 @dataclass(frozen=True, eq=False)
-class SmoothTorso(ImplicitBody, AnalyticBody):
-    """The smooth lateral surface of the parametric torso of ``chart`` (heights in m)."""
+class SmoothTorso(SectionedBody):
+    """The smooth lateral surface of the parametric torso of ``chart`` (heights in m): its
+    superellipse sections (`cloth.bodies.sectioned.SectionedBody`)."""
 
     chart: SizeChart
     bottom: float = field(init=False)
     top: float = field(init=False)
+    exponent: float = field(init=False, default=EXPONENT)
 
     def __post_init__(self) -> None:
-        bottom, top = self.chart.height["bottom"], self.chart.height["top"]
-        object.__setattr__(self, "bottom", float(bottom))
-        object.__setattr__(self, "top", float(top))
-        girth, depth, front = _profiles(self.chart)
-        z = np.linspace(bottom, top, PROFILE_SAMPLES)
-        d, f = depth(z), front(z)
-        scale = girth(z) / _unit_perimeter(d, f, 1024)
-        object.__setattr__(self, "_girth", girth)
-        profiles = np.column_stack([scale, scale * 2 * d * f, scale * 2 * d * (1 - f)])
-        spline = CubicSpline(z, profiles)  # a, b_front, b_back together
-        # its pieces' coefficients, (pieces, 4 powers, 3 profiles), highest power first
-        object.__setattr__(self, "_pieces", np.ascontiguousarray(spline.c.transpose(1, 0, 2)))
-        object.__setattr__(self, "_knots", spline.x)
-
-    # -- the section profiles and the implicit function ------------------------------------
-
-    def _profile(self, z: NDArray) -> tuple[NDArray, NDArray, NDArray]:
-        """a, b_front, b_back (m), their z derivatives (1) and second derivatives (1/m) at
-        heights z ((P,)), each (3, P); continued by their tangent lines below the bottom and
-        above the top (the surface stays C^1; the second derivatives are 0 there). One look-up
-        of the spline piece (the samples are evenly spaced) and Horner's rule for all three."""
-        zc = np.clip(z, self.bottom, self.top)
-        knots, pieces = self._knots, self._pieces
-        spacing = (self.top - self.bottom) / (len(knots) - 1)
-        index = np.clip(((zc - self.bottom) / spacing).astype(np.intp), 0, len(pieces) - 1)
-        t = (zc - knots[index])[:, None]
-        c = pieces[index]  # (P, 4, 3)
-        value = ((c[:, 0] * t + c[:, 1]) * t + c[:, 2]) * t + c[:, 3]
-        slope = (3.0 * c[:, 0] * t + 2.0 * c[:, 1]) * t + c[:, 2]
-        inside = ((z > self.bottom) & (z < self.top))[:, None]
-        bend = np.where(inside, 6.0 * c[:, 0] * t + 2.0 * c[:, 1], 0.0)
-        value += slope * (z - zc)[:, None]
-        return value.T, slope.T, bend.T
-
-    def implicit(self, q: NDArray) -> tuple[NDArray, NDArray, NDArray]:
-        """G ((P,)), its gradient ((P, 3), 1/m) and Hessian ((P, 3, 3), 1/m^2) at q."""
-        p = EXPONENT
-        x, y, z = q[:, 0], q[:, 1], q[:, 2]
-        (a, bf, bb), (da, dbf, dbb), (dda, ddbf, ddbb) = self._profile(z)
-        front = y >= 0
-        b, db, ddb = np.where(front, bf, bb), np.where(front, dbf, dbb), np.where(front, ddbf, ddbb)
-        gradient = np.empty((len(q), 3))
-        hessian = np.zeros((len(q), 3, 3))
-        value = -np.ones(len(q))
-        for axis, s, ds, dds in ((0, a, da, dda), (1, b, db, ddb)):
-            u = q[:, axis] / s
-            au, sg = np.abs(u), np.sign(u)
-            second = au ** (p - 2)  # one power; the others from it (p > 2: 0 at u = 0)
-            first = second * au
-            power = first * au
-            value += power
-            gradient[:, axis] = p * first * sg / s
-            hessian[:, axis, axis] = p * (p - 1) * second / s**2
-            hessian[:, axis, 2] = hessian[:, 2, axis] = -(p**2) * first * sg * ds / s**2
-            hessian[:, 2, 2] += p * power * ((p + 1) * ds**2 / s**2 - dds / s)
-        gradient[:, 2] = -p * (np.abs(x / a) ** p * da / a + np.abs(y / b) ** p * db / b)
-        return value, gradient, hessian
-
-    def _level(self, p: NDArray) -> tuple[NDArray, NDArray]:
-        """(|x/a|^p + |y/b|^p)^(1/p) at points p ((P,), < 1 inside, 1 on the surface, the
-        factor by which p lies outside along the horizontal ray from the axis) and a (m)."""
-        a, bf, bb = self._profile(p[:, 2])[0]
-        x, y = p[:, 0], p[:, 1]
-        b = np.where(y >= 0, bf, bb)
-        return (np.abs(x / a) ** EXPONENT + np.abs(y / b) ** EXPONENT) ** (1 / EXPONENT), a
-
-    def locate(self, p: NDArray) -> tuple[NDArray, NDArray[np.bool_]]:
-        """The surface point on the horizontal ray from the axis through p (a first guess), and
-        whether p lies outside (its level is at least 1)."""
-        level, a = self._level(p)
-        x, y = p[:, 0], p[:, 1]
-        on_axis = level < 1e-12
-        t = 1.0 / np.where(on_axis, 1.0, level)
-        q = np.column_stack([x * t, y * t, p[:, 2]])
-        q[on_axis, 0], q[on_axis, 1] = a[on_axis], 0.0
-        return q, level >= 1.0
-
-    # -- the Body protocol (queries from `ImplicitBody`) -------------------------------------
-
-    def _polygon(self, z: float) -> NDArray[np.float64]:
-        t = 2 * np.pi * np.arange(SECTION_POINTS) / SECTION_POINTS
-        a, front, back = self._profile(np.array([z]))[0][:, 0]
-        return np.column_stack(_section(t, a, front, back))
-
-    def _perimeter(self, z: float) -> float:
-        return float(self._girth(z))
+        chart = self.chart
+        self._build(chart.height["bottom"], chart.height["top"], *_profiles(chart), EXPONENT)
