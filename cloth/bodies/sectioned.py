@@ -84,6 +84,22 @@ def unit_perimeter(depth: NDArray, front: NDArray, count: int, exponent: float) 
     return (4 * values[1] - values[0]) / 3
 
 
+def ring_heights(bottom: float, top: float, rings: int, marks: list[float]) -> NDArray:
+    """``rings`` heights (m) from ``bottom`` to ``top`` through every measuring point in ``marks``,
+    as evenly spaced as that allows: each gap between landmarks takes rings in turn, the one
+    whose spacing is widest first (all the landmarks, if there are more than ``rings``)."""
+    anchors = np.unique(np.clip([bottom, top, *marks], bottom, top))
+    gaps = np.diff(anchors)
+    inside = np.zeros(gaps.size, dtype=int)
+    for _ in range(max(rings - anchors.size, 0)):
+        inside[np.argmax(gaps / (inside + 1))] += 1
+    parts = [
+        np.linspace(low, low + gap, n + 1, endpoint=False)
+        for low, gap, n in zip(anchors, gaps, inside, strict=False)
+    ]
+    return np.concatenate([*parts, anchors[-1:]])
+
+
 def ring_mesh(
     heights: NDArray, around: int, girth: Profile, depth: Profile, front: Profile,
     exponent: float,

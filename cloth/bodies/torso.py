@@ -46,7 +46,7 @@ from numpy.typing import NDArray
 from scipy.interpolate import PchipInterpolator
 
 from cloth.bodies import sectioned
-from cloth.bodies.sectioned import SectionedBody, ring_mesh
+from cloth.bodies.sectioned import SectionedBody, ring_heights, ring_mesh
 from cloth.errors import InputError
 
 log = logging.getLogger(__name__)
@@ -135,22 +135,6 @@ def superellipse(angle: NDArray) -> tuple[NDArray, NDArray]:
     return sectioned.superellipse(angle, EXPONENT)
 
 
-def _ring_heights(bottom: float, top: float, rings: int, marks: list[float]) -> NDArray:
-    """``rings`` heights (m) from ``bottom`` to ``top`` through every landmark in ``marks``,
-    as evenly spaced as that allows: each gap between landmarks takes rings in turn, the one
-    whose spacing is widest first (all the landmarks, if there are more than ``rings``)."""
-    anchors = np.unique(np.clip([bottom, top, *marks], bottom, top))
-    gaps = np.diff(anchors)
-    inside = np.zeros(gaps.size, dtype=int)
-    for _ in range(max(rings - anchors.size, 0)):
-        inside[np.argmax(gaps / (inside + 1))] += 1
-    parts = [
-        np.linspace(low, low + gap, n + 1, endpoint=False)
-        for low, gap, n in zip(anchors, gaps, inside, strict=False)
-    ]
-    return np.concatenate([*parts, anchors[-1:]])
-
-
 def torso_mesh(
     chart: SizeChart, around: int = 128, rings: int = 120
 ) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
@@ -166,7 +150,7 @@ def torso_mesh(
         raise InputError("the torso needs at least 8 points around and 8 rings", field="torso")
     girth, depth, front = _profiles(chart)
     bottom, top = chart.height["bottom"], chart.height["top"]
-    heights = _ring_heights(bottom, top, rings, [chart.height[k] for k in LANDMARKS])
+    heights = ring_heights(bottom, top, rings, [chart.height[k] for k in LANDMARKS])
     return ring_mesh(heights, around, girth, depth, front, EXPONENT)
 
 

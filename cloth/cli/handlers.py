@@ -22,7 +22,7 @@ from cloth.stages import figures, view, write_result
 from cloth.stages.bodycheck import describe
 from cloth.stages.case import SOLVER_KEYS, predeform_file, relax_file, run_case
 from cloth.stages.graded import design_files
-from cloth.stages.inputs import ingest_material, torso_file
+from cloth.stages.inputs import ingest_material, leg_file, torso_file
 from cloth.stages.sweep import confirm_file, design_file, sweep_files
 
 log = logging.getLogger("cloth")
@@ -53,6 +53,11 @@ def _body_torso(args: argparse.Namespace) -> int:
     girths = {k: getattr(args, k) for k in ("bust", "underbust", "waist", "hip")
               if getattr(args, k) is not None}  # fmt: skip
     torso_file(args.size, args.chart, girths, args.around, args.rings, args.output)
+    return 0
+
+
+def _body_leg(args: argparse.Namespace) -> int:
+    leg_file(args.size, args.chart, args.around, args.rings, args.output)
     return 0
 
 

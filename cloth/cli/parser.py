@@ -11,6 +11,7 @@ from cloth.cli.handlers import (
     _aggregate,
     _body_check,
     _body_fit,
+    _body_leg,
     _body_torso,
     _case_check,
     _case_write,
@@ -154,7 +155,7 @@ def build_parser() -> argparse.ArgumentParser:
     _json_option(ingest, "a config's material block (docs/config.md)")
     ingest.set_defaults(handler=_material_ingest)
 
-    body = commands.add_parser("body", help="bodies: parametric torso, mesh checks")
+    body = commands.add_parser("body", help="bodies: parametric torso and leg, mesh checks")
     body_commands = body.add_subparsers(dest="body_command", required=True)
     torso = body_commands.add_parser(
         "torso",
@@ -170,6 +171,15 @@ def build_parser() -> argparse.ArgumentParser:
     torso.add_argument("-o", "--output", type=_path, required=True, help="mesh file (.ply, .stl)")
     _json_option(torso, "a case's torso body block (docs/config.md)", ("surface", "tissue"))
     torso.set_defaults(handler=_body_torso)
+    leg = body_commands.add_parser(
+        "leg", help="write the parametric leg of a stocking size chart as a mesh (m, z up)"
+    )
+    leg.add_argument("--size", required=True, help="size name in the leg chart (e.g. S, M, L)")
+    leg.add_argument("--chart", type=_path, help="leg chart CSV (default data/bodies)")
+    leg.add_argument("--around", type=int, default=96, help="mesh points per ring")
+    leg.add_argument("--rings", type=int, default=160, help="mesh rings")
+    leg.add_argument("-o", "--output", type=_path, required=True, help="mesh file (.ply, .stl)")
+    leg.set_defaults(handler=_body_leg)
     check = body_commands.add_parser(
         "check",
         help="check a mesh and print its bounds, height and girth profile",
@@ -344,10 +354,7 @@ def build_parser() -> argparse.ArgumentParser:
         help="sweep.nc -> design.csv: the uniform reduction per target; or case.yaml -> a "
         "graded pattern meeting a pressure on every target line (docs/outputs.md)",
     )
-    de.add_argument(
-        "input", type=_path,
-        help="sweep.nc from cloth sweep, or a case YAML whose pattern to design",
-    )  # fmt: skip
+    de.add_argument("input", type=_path, help="sweep.nc from cloth sweep, or a case YAML")
     de.add_argument("--targets", help="with sweep.nc: JSON list of {landmark, pressure_mmHg}")
     de.add_argument(
         "--target", action="append", default=[], metavar="LINE=PRESSURE",

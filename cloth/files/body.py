@@ -6,6 +6,8 @@ from pathlib import Path
 
 from cloth.bodies.analytic import Cone, Cylinder, EllipticCylinder
 from cloth.bodies.base import Body
+from cloth.bodies.leg import DEFAULT_LEG_CHART, SmoothLeg, leg_mesh, leg_size
+from cloth.bodies.leg import POINTS as LEG_POINTS
 from cloth.bodies.mesh import MeshBody
 from cloth.bodies.surface import FitOptions
 from cloth.bodies.torso import DEFAULT_CHART, SmoothTorso, chart_size, torso_mesh
@@ -57,6 +59,19 @@ def body_from_config(block: dict, base_dir: str | Path = ".") -> tuple[Body, dic
             body = MeshBody(vertices, faces, source=f"torso {spec['size']} ({chart_path})")
         ref.update(kind="torso", path=str(chart_path), sha256=sha256(chart_path))
         ref["landmarks"] = {k: chart.height[k] for k in TORSO_LANDMARKS}
+    elif "leg" in block:
+        spec = block["leg"]
+        chart_path = DEFAULT_LEG_CHART
+        if "chart" in spec:
+            chart_path = input_file(spec["chart"], base_dir, None, "body.leg.chart", "leg chart")
+        chart = leg_size(spec["size"], chart_path)
+        if spec.get("surface", "smooth") == "smooth":
+            body = SmoothLeg(chart)
+        else:
+            vertices, faces = leg_mesh(chart, spec.get("around", 96), spec.get("rings", 160))
+            body = MeshBody(vertices, faces, source=f"leg {spec['size']} ({chart_path})")
+        ref.update(kind="leg", path=str(chart_path), sha256=sha256(chart_path))
+        ref["landmarks"] = {p: chart.height[p] for p in LEG_POINTS}
     elif "cylinder" in block:
         body = Cylinder(**block["cylinder"])
         ref["kind"] = "cylinder"
@@ -67,7 +82,9 @@ def body_from_config(block: dict, base_dir: str | Path = ".") -> tuple[Body, dic
         body = Cone(**block["cone"])
         ref["kind"] = "cone"
     else:
-        raise InputError("no body given; use one of mesh, torso, cylinder, elliptic_cylinder, cone")
+        raise InputError(
+            "no body given; use one of mesh, torso, leg, cylinder, elliptic_cylinder, cone"
+        )
     return body, ref
 
 
@@ -92,6 +109,8 @@ def body_from_record(record: dict, source: str | Path = "state file") -> Body:
             block["mesh"] = path
         elif "torso" in block:
             block["torso"] = {**block["torso"], "chart": path}
+        elif "leg" in block:
+            block["leg"] = {**block["leg"], "chart": path}
     surface = record.get("surface") or {}
     if "mesh" in block and surface.get("file"):
         block["surface_file"] = surface["file"]

@@ -21,6 +21,7 @@ import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from cloth.bodies.leg import DEFAULT_LEG_CHART
 from cloth.bodies.torso import DEFAULT_CHART
 from cloth.bodies.torso import LANDMARKS as TORSO_LANDMARKS
 from cloth.case import Case
@@ -77,8 +78,9 @@ def local_body(body: dict, name: str, base: str | Path | None = None) -> dict:
         body["mesh"] = data_path(body["mesh"], base)
         if body.get("surface", "smooth") == "smooth":
             body = {"surface_file": body_file("surface.nc", name), **body}
-    if "torso" in body and "chart" in body["torso"]:
-        body["torso"] = {**body["torso"], "chart": data_path(body["torso"]["chart"], base)}
+    for kind in ("torso", "leg"):
+        if kind in body and "chart" in body[kind]:
+            body[kind] = {**body[kind], "chart": data_path(body[kind]["chart"], base)}
     return body
 
 
@@ -317,9 +319,10 @@ def check_inputs(plan: Plan) -> None:
         if "mesh" in body:
             input_file(data_path(body["mesh"], plan.base), ".", "config", f"{where}.mesh",
                        "mesh file")  # fmt: skip
-        if "chart" in body.get("torso", {}):
-            input_file(data_path(body["torso"]["chart"], plan.base), ".", "config",
-                       f"{where}.torso.chart", "size chart")  # fmt: skip
+        for kind in ("torso", "leg"):
+            if "chart" in body.get(kind, {}):
+                input_file(data_path(body[kind]["chart"], plan.base), ".", "config",
+                           f"{where}.{kind}.chart", "size chart")  # fmt: skip
 
 
 def make_plan(config: dict, base: str | Path | None = None) -> Plan:
@@ -348,4 +351,6 @@ def body_files(case: Case) -> list[str]:
         return [body.option("mesh"), *([surface] if surface is not None else [])]
     if body.kind == "torso":
         return [body.params.get("chart", str(DEFAULT_CHART))]
+    if body.kind == "leg":
+        return [body.params.get("chart", str(DEFAULT_LEG_CHART))]
     return []

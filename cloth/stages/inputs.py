@@ -7,6 +7,7 @@ import logging
 from collections.abc import Sequence
 from pathlib import Path
 
+from cloth.bodies.leg import DEFAULT_LEG_CHART, leg_mesh, leg_size
 from cloth.bodies.torso import DEFAULT_CHART, chart_size, torso_mesh
 from cloth.errors import InputError
 from cloth.figures.plots import plot_material
@@ -67,4 +68,20 @@ def torso_file(
         "wrote %s: torso %s, %d vertices, %d faces, girths (m) %s",
         output, spec.name, len(vertices), len(faces),
         ", ".join(f"{k} {v:.4g}" for k, v in spec.girth.items()),
+    )  # fmt: skip
+
+
+def leg_file(size: str, chart: Path | None, around: int, rings: int, output: Path) -> None:
+    """The parametric leg of ``size`` in ``chart`` (`cloth.bodies.leg`) as a mesh."""
+    import trimesh
+
+    spec = leg_size(size, chart or DEFAULT_LEG_CHART)
+    vertices, faces = leg_mesh(spec, around, rings)
+    mesh = trimesh.Trimesh(vertices, faces, process=False)
+    suffix = output.suffix.lstrip(".").lower() or "ply"
+    with atomic_output(output) as tmp:
+        mesh.export(tmp, file_type=suffix)
+    log.info(
+        "wrote %s: leg %s, %d vertices, %d faces, girths (m) %s", output, spec.name,
+        len(vertices), len(faces), ", ".join(f"{k} {v:.4g}" for k, v in spec.girth.items()),
     )  # fmt: skip
