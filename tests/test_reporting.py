@@ -32,7 +32,8 @@ PA_PER_MMHG = 13.5951e3 * 9.80665 * 1e-3
 RAL = {"I": (18.0, 20.99), "II": (23.0, 32.0), "III": (34.0, 46.0), "IV": (49.0, 80.0)}
 #: ... and pressures that are in no class (below I, between classes).
 RAL_NONE = (0.0, 17.99, 21.01, 22.99, 32.01, 33.99, 46.01, 48.99)
-#: Comfort groups of knitted garments, kPa, each [lower, upper): group -> pressures inside.
+#: Comfort groups of knitted garments, kPa, each [lower, upper): group -> pressures inside
+#: (given to the summary as a case's pressure bands).
 COMFORT = {"I": (0.4, 1.29), "II": (1.3, 1.99), "III": (2.0, 3.29), "IV": (3.3, 9.0)}
 
 
@@ -45,12 +46,27 @@ def test_one_mmhg_is_its_definition():
     assert row["pressure_mean_kPa"] == pytest.approx(2.66645, rel=1e-12)
 
 
-def _summary_row(tmp_path: Path, mmhg: float) -> dict[str, str]:
-    """The summary.csv row of a girth line whose mean pressure is ``mmhg`` mmHg, through the
-    writer users read (cloth.files.result)."""
+def _summary_row(
+    tmp_path: Path, mmhg: float, line: str = "waist", judge: dict | None = None
+) -> dict[str, str]:
+    """The summary.csv row of a girth line ``line`` whose mean pressure is ``mmhg`` mmHg (with a
+    case whose ``judge`` block is ``judge``, where given), through the writer users read
+    (cloth.files.result)."""
+    import json
+
     from cloth.files.result import summary_rows, write_summary
+    from cloth.pipeline.config import validate_case
 
     pa = mmhg * PA_PER_MMHG
+    attrs: dict[str, object] = {"converged": 1}
+    if judge is not None:
+        case = {
+            "material": "powernet",
+            "body": {"cylinder": {"radius": 0.1}},
+            "judge": judge,
+            "garment": {"bottom": 0.1, "top": 0.4, "grid": [12, 6], "reduction": 0.2},
+        }
+        attrs["case"] = json.dumps(validate_case(case).to_dict())  # fmt: skip
     ds = xr.Dataset(
         {
             "landmark_height": ("landmark", [1.0]),
@@ -59,8 +75,8 @@ def _summary_row(tmp_path: Path, mmhg: float) -> dict[str, str]:
             "pressure_min": ("landmark", [pa]),
             "tension_mean": ("landmark", [100.0]),
         },
-        coords={"landmark": ["waist"]},
-        attrs={"converged": 1},
+        coords={"landmark": [line]},
+        attrs=attrs,
     )
     path = tmp_path / f"summary_{mmhg}.csv"
     write_summary(summary_rows(ds, "case"), path)
@@ -72,20 +88,35 @@ def _summary_row(tmp_path: Path, mmhg: float) -> dict[str, str]:
     ("mmhg", "expected"),
     [(p, name) for name, pair in RAL.items() for p in pair] + [(p, "-") for p in RAL_NONE],
 )
-def test_the_summary_gives_the_ral_class_of_the_mean_in_mmhg(tmp_path, mmhg, expected):
-    row = _summary_row(tmp_path, mmhg)
-    assert row["ral_gz_387_class"] == expected
+def test_the_summary_gives_the_ral_class_at_b_of_the_mean_in_mmhg(tmp_path, mmhg, expected):
+    row = _summary_row(tmp_path, mmhg, "B")
+    assert row["compression_class"] == expected
     assert float(row["pressure_mean_mmHg"]) == pytest.approx(mmhg, abs=1e-4)
     assert float(row["pressure_mean_Pa"]) == pytest.approx(mmhg * 133.322, rel=1e-5)
+
+
+def test_a_torso_line_gets_no_compression_class(tmp_path):
+    """RAL-GZ 387/1 defines the classes at the ankle: a waist of 20 mmHg is judged by no
+    class, and by no band unless the case defines some."""
+    row = _summary_row(tmp_path, 20.0, "waist")
+    assert "compression_class" not in row and "pressure_band" not in row
+    assert not any("ral" in key.lower() or "comfort" in key for key in row)
 
 
 @pytest.mark.parametrize(
     ("kpa", "expected"),
     [(p, name) for name, pair in COMFORT.items() for p in pair] + [(0.0, "-"), (0.39, "-")],
 )
-def test_the_summary_gives_the_comfort_group_of_the_mean_in_kpa(tmp_path, kpa, expected):
-    row = _summary_row(tmp_path, kpa * 1000 / PA_PER_MMHG)
-    assert row["comfort_group"] == expected
+def test_bands_the_case_defines_judge_every_line(tmp_path, kpa, expected):
+    """The comfort groups of knitted garments (kPa, [lower, upper)) given as the case's bands
+    in mmHg: each line's band is the group its mean falls in."""
+    edges = {"I": (0.4, 1.3), "II": (1.3, 2.0), "III": (2.0, 3.3), "IV": (3.3, 100.0)}
+    bands = [
+        {"name": name, "low_mmHg": low * 1000 / PA_PER_MMHG, "high_mmHg": high * 1000 / PA_PER_MMHG}
+        for name, (low, high) in edges.items()
+    ]
+    row = _summary_row(tmp_path, kpa * 1000 / PA_PER_MMHG, "waist", {"bands": bands})
+    assert row["pressure_band"] == expected
     assert float(row["pressure_mean_kPa"]) == pytest.approx(kpa, rel=1e-5)
 
 

@@ -12,6 +12,7 @@ body           `BodySpec` (kind, its block, `Tissue`)      `cloth.files.body.bod
 garment        `GarmentSpec`                               `cloth.garment.predeform`
 contact        `Contact` (friction, slip length)           `Case.skin`
 landmarks      name -> height, m                           `cloth.stages.results`
+judge          `Judge` (classes, graduation, bands)        `cloth.results.judging`
 solver         `Settings`                                  `cloth.solvers.relax`
 =============  ==========================================  ===================================
 
@@ -32,6 +33,7 @@ from dataclasses import dataclass, field
 from types import MappingProxyType
 from typing import Any
 
+from cloth.case.judge import Judge
 from cloth.case.profile import Profile
 from cloth.case.settings import Settings
 from cloth.case.skin import Contact, Skin, Tissue
@@ -148,6 +150,7 @@ class Case:
     solver: Settings
     landmarks: Mapping[str, float]
     _data: Mapping[str, Any] = field(repr=False)
+    judge: Judge = field(default_factory=Judge)
 
     @property
     def skin(self) -> Skin:
@@ -194,6 +197,7 @@ class Case:
                 {str(k): float(v) for k, v in (data.get("landmarks") or {}).items()}
             ),
             _data=MappingProxyType(data),
+            judge=Judge.from_block(data.get("judge")),
         )
 
 

@@ -25,6 +25,8 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
+from cloth.case import Case
+from cloth.case.judge import Judge
 from cloth.files.levels import estimate_columns
 from cloth.files.material import fabric_variables
 from cloth.files.state import CONSTRAINT_MEANINGS, CONTACT_MEANINGS
@@ -32,6 +34,7 @@ from cloth.garment.grid import WEFT
 from cloth.garment.state import State
 from cloth.io import atomic_output, flag_variable, global_attrs, node_variable, to_attr, variable
 from cloth.results.fields import Fields
+from cloth.results.judging import judged
 from cloth.results.landmarks import LANDMARK_FIELDS, Landmark
 from cloth.results.pressure import MMHG
 
@@ -201,6 +204,8 @@ def pattern_variables(state: State) -> dict[str, xr.Variable]:
 
 
 def summary_rows(ds: xr.Dataset, case_name: str) -> list[dict[str, object]]:
+    """summary.csv's rows: per girth line its pressures, tension, error estimate and the case's
+    judging (`cloth.results.judging`; the default judge for a result without its case)."""
     rows = []
     for index, name in enumerate(ds["landmark"].values.tolist()):
         mark = Landmark(
@@ -220,7 +225,9 @@ def summary_rows(ds: xr.Dataset, case_name: str) -> list[dict[str, object]]:
             {"case": case_name, **record, **estimate_columns(ds, index), **extra,
              "converged": int(ds.attrs.get("converged", 0))}
         )  # fmt: skip
-    return rows
+    case = ds.attrs.get("case")
+    judge = Case.from_dict(json.loads(case)).judge if case else Judge()
+    return judged(rows, judge)
 
 
 def write_summary(rows: list[dict[str, object]], path: str | Path) -> Path:

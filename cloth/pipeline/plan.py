@@ -22,6 +22,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from cloth.bodies.leg import DEFAULT_LEG_CHART
+from cloth.bodies.leg import POINTS as LEG_POINTS
 from cloth.bodies.torso import DEFAULT_CHART
 from cloth.bodies.torso import LANDMARKS as TORSO_LANDMARKS
 from cloth.case import Case
@@ -257,28 +258,30 @@ def design_file(name: str, design: str = "{design}") -> str:
     return f"{RESULTS}/designs/{design}/{name}"
 
 
+#: The girth lines of the parametric bodies, known before any job runs.
+PARAMETRIC_LINES = {"torso": TORSO_LANDMARKS, "leg": LEG_POINTS}
+
+
 def check_targets(config: dict) -> None:
     """Targets need one pressure and a girth line the sweep's bodies have (known in advance:
-    the torso's four lines; other bodies get 'middle' or girth_min_N / girth_max_N)."""
+    the torso's four lines, the leg's measuring points; other bodies get 'middle' or
+    girth_min_N / girth_max_N)."""
     sweep = config.get("sweep") or {}
     bodies = [config.get("bodies", {}).get(name, {}) for name in sweep.get("bodies", [])]
-    torso_only = bool(bodies) and all("torso" in body for body in bodies)
+    kinds = {next((k for k in PARAMETRIC_LINES if k in body), "other") for body in bodies}
+    known = [line for kind in sorted(kinds - {"other"}) for line in PARAMETRIC_LINES[kind]]
     for number, target in enumerate(config.get("targets", [])):
         where = f"targets.{number}"
         if ("pressure_mmHg" in target) == ("pressure_kPa" in target):
             raise InputError("give exactly one of pressure_mmHg or pressure_kPa", "config", where)
         name = target["landmark"]
-        if torso_only and name not in TORSO_LANDMARKS:
-            raise InputError(
-                f"unknown landmark {name!r}; the torso has {', '.join(TORSO_LANDMARKS)}",
-                "config", f"{where}.landmark",
-            )  # fmt: skip
-        if not (name in TORSO_LANDMARKS or name == "middle" or name.startswith("girth_")):
-            raise InputError(
-                f"unknown landmark {name!r}; use hip, waist, underbust, bust (torso), middle, "
-                "or girth_min_N / girth_max_N (other bodies)",
-                "config", f"{where}.landmark",
-            )  # fmt: skip
+        if name in known or ("other" in kinds and (name == "middle" or name.startswith("girth_"))):
+            continue
+        others = ", or middle, girth_min_N / girth_max_N (other bodies)" if "other" in kinds else ""
+        raise InputError(
+            f"unknown landmark {name!r}; the sweep's bodies have {', '.join(known)}{others}",
+            "config", f"{where}.landmark",
+        )  # fmt: skip
 
 
 #: Config keys whose numbers may be +infinity, and what it means there (the config schema's

@@ -6,7 +6,7 @@ girth has an interior minimum or maximum (`girth_extrema`: ``girth_min_N``, ``gi
 else the ``middle`` row. Its summary (`Landmark`) is taken along the girth line at its height
 (`girth_line`): each node quantity is interpolated linearly in height between the two rows
 around the line, column by column (along the warp lines), and the mean, max and min pressure
-(Pa; with mmHg, the RAL-GZ 387 class and the comfort group) and the mean weft tension (N m-1)
+(Pa, with mmHg; judged by `cloth.results.judging`) and the mean weft tension (N m-1)
 are those of the interpolated values. A line at or beyond an edge row (within half a row
 spacing) takes that row, whose nodes are held by the edge: the edge row keeps its own values.
 So a line's value moves smoothly with the grid, where the nearest row would jump from row to row
@@ -24,7 +24,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from cloth.garment.grid import Grid
-from cloth.results.pressure import MMHG, comfort_group, ral_class
+from cloth.results.pressure import MMHG
 
 #: The parametric torso's girth lines, bottom to top.
 
@@ -60,7 +60,7 @@ class Landmark:
     tension: float  # N m-1, mean hoop tension of the row
 
     def record(self) -> dict[str, object]:
-        """A summary row with Pa, kPa, mmHg and the classes."""
+        """A summary row with Pa, kPa and mmHg (classes and bands: `cloth.results.judging`)."""
         return {
             "landmark": self.name,
             "height_m": self.height,
@@ -72,8 +72,6 @@ class Landmark:
             "pressure_mean_mmHg": self.mean / MMHG,
             "pressure_max_mmHg": self.max / MMHG,
             "pressure_min_mmHg": self.min / MMHG,
-            "ral_gz_387_class": ral_class(self.mean / MMHG),
-            "comfort_group": comfort_group(self.mean / 1e3),
             "tension_weft_mean_N_per_m": self.tension,
         }
 

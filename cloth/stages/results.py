@@ -176,10 +176,14 @@ def write_result(
     if not int(ds.attrs["converged"]):
         log.warning("%s: the relaxation did not converge; results are marked so", relaxed_path)
     for row in rows:
+        judged = "".join(
+            f", {label} {row[key]}" for key, label in
+            (("compression_class", "class"), ("share_of_class_point", "share"),
+             ("pressure_band", "band")) if row.get(key) not in (None, "")
+        )  # fmt: skip
         log.info(
-            "%s: pressure mean %.4g Pa (%.3g mmHg, RAL %s), max %.3g mmHg",
-            row["landmark"], row["pressure_mean_Pa"], row["pressure_mean_mmHg"],
-            row["ral_gz_387_class"], row["pressure_max_mmHg"],
+            "%s: pressure mean %.4g Pa (%.3g mmHg%s), max %.3g mmHg", row["landmark"],
+            row["pressure_mean_Pa"], row["pressure_mean_mmHg"], judged, row["pressure_max_mmHg"],
         )  # fmt: skip
     return ds
 

@@ -1,0 +1,63 @@
+"""The stocking pipeline (issue 31, item 5): config/stocking.yaml at CI size (one leg, two
+reductions, a coarse grid, given on top of it), end to end: the seven measuring points, the
+class judged at B, the graduation shares, the class II answer and the graded design."""
+
+from __future__ import annotations
+
+import csv
+from pathlib import Path
+
+import pytest
+import xarray as xr
+import yaml
+
+from cloth.bodies.leg import POINTS
+from tests.pipeline import ROOT, from_checkout, snakemake
+
+SMALL = {
+    "sweep": {"bodies": ["leg_M"], "reductions": [0.12, 0.20], "garment": {"grid": [16, 24]}},
+    "profile_designs": {"graded": {"garment": {"grid": [16, 24]}}},
+}
+
+
+def _rows(path: Path) -> list[dict[str, str]]:
+    with path.open() as handle:
+        return list(csv.DictReader(handle))
+
+
+@pytest.fixture(scope="module")
+def stocking(tmp_path_factory) -> Path:
+    where = tmp_path_factory.mktemp("stocking")
+    small = where / "small.yaml"
+    small.write_text(yaml.safe_dump(SMALL))
+    done = snakemake(where, *from_checkout(where, "config/stocking.yaml"), str(small))
+    assert done.returncode == 0, done.stderr[-3000:]
+    return where / "results"
+
+
+def test_the_stocking_summary_judges_the_class_at_b_and_the_graduation(stocking):
+    case = stocking / "cases" / "powernet__leg_M__r200"
+    result = xr.load_dataset(case / "result.nc")
+    assert int(result.attrs["converged"]) == 1 and float(result["residual"].values[-1]) <= 1e-8
+    rows = {row["landmark"]: row for row in _rows(case / "summary.csv")}
+    assert list(rows) == list(POINTS)
+    b = float(rows["B"]["pressure_mean_mmHg"])
+    assert rows["B"]["compression_class"] in ("I", "II", "III", "IV", "-")
+    assert all(rows[p]["compression_class"] == "" for p in POINTS[1:])
+    for point in POINTS:
+        share = float(rows[point]["pressure_mean_mmHg"]) / b
+        assert float(rows[point]["share_of_class_point"]) == pytest.approx(share, rel=1e-5)
+    assert rows["B1"]["graduation_low"] != "" and rows["B"]["graduation_met"] == ""
+    assert b > float(rows["F"]["pressure_mean_mmHg"])  # graduated: the ankle presses most
+    assert not any("ral" in key.lower() for key in rows["B"])
+
+
+def test_the_stocking_answers_class_ii_at_b_and_designs_the_graded_pattern(stocking):
+    (answer,) = _rows(stocking / "design_confirmed.csv")
+    assert answer["landmark"] == "B" and answer["status"] == "ok"
+    assert 23 <= float(answer["confirmed_mmHg"]) <= 32  # class II
+    design = {row["landmark"]: row for row in _rows(stocking / "designs" / "graded" /
+                                                     "design_confirmed.csv")}  # fmt: skip
+    assert set(design) == {"B", "C", "F"}
+    assert all(row["met"] == "1" for row in design.values())
+    assert (ROOT / "config" / "stocking.yaml").is_file()
