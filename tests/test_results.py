@@ -290,3 +290,32 @@ def test_cone_edge_rows_carry_the_body_share_only(tmp_path, lengthwise):
         assert pressure[k] * area[k] == pytest.approx(lam, rel=1e-6)
         assert ds["edge_support_force"].values.ravel()[k] == pytest.approx(mu, rel=1e-6)
         assert abs(-force[k] @ normal[k] - lam) > 1e-3 * lam  # -R . n is not the body's share
+
+
+@pytest.mark.parametrize("kind", [None, "torso"])
+def test_a_scan_s_wiggles_are_not_landmarks_and_its_kind_names_them(tmp_path, kind):
+    """The torso mesh with a girth wiggle of +-3 mm every 3 cm (a scan's ripple): find_peaks'
+    prominence keeps the hip, waist and bust extrema only (without it, 15 extrema: every
+    ripple was a landmark), named so when the case says the body is a torso."""
+    from cloth.bodies.torso import chart_size, torso_mesh
+    from cloth.results.landmarks import girth_extrema
+    from cloth.stages.case import initial_state
+    from tests.conftest import write_obj
+
+    chart = chart_size("M")
+    vertices, faces = torso_mesh(chart, around=96, rings=160)
+    ripple = 1.0 + 0.003 / 0.9 * np.sin(2 * np.pi * vertices[:, 2] / 0.03)
+    vertices[:, :2] *= ripple[:, None]
+    write_obj(tmp_path / "scan.obj", vertices, faces)
+    body = {"mesh": "scan.obj", "surface": "mesh", **({"kind": kind} if kind else {})}
+    state = initial_state(
+        {"material": "powernet", "body": body,
+         "garment": {"bottom": 0.80, "top": 1.28, "reduction": 0.15, "grid": [24, 49]}},
+        tmp_path,
+    )  # fmt: skip
+    marks = girth_extrema(state)
+    names = ["hip", "waist", "bust"] if kind else ["girth_max_1", "girth_min_2", "girth_max_3"]
+    assert list(marks) == names
+    for name, line in zip(names, ("hip", "waist", "bust"), strict=True):
+        # within half the ripple's period and a row: a flat extremum moves with the ripple
+        assert marks[name] == pytest.approx(chart.height[line], abs=0.025)

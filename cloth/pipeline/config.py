@@ -21,7 +21,7 @@ from cloth.case import BODY_KINDS, Case
 from cloth.errors import InputError
 from cloth.paths import shown
 
-MESH_ONLY = ("units", "up", "repair", "surface", "smoothing", "spacing", "surface_file")
+MESH_ONLY = ("units", "up", "repair", "surface", "smoothing", "spacing", "surface_file", "kind")
 #: The garment keys that may be a profile (`cloth.case.profile`).
 PROFILE_KEYS = ("reduction", "lengthwise_reduction")
 

@@ -1,8 +1,9 @@
 """Landmarks: the girth lines a garment is judged on, and their summaries.
 
-A landmark is a height on the body: the parametric torso's `cloth.bodies.torso.LANDMARKS` from its size
-chart, heights given in a case's ``landmarks``, or for other bodies the rows where the hull
-girth has an interior minimum or maximum (`girth_extrema`: ``girth_min_N``, ``girth_max_N``),
+A landmark is a height on the body: the parametric torso's `cloth.bodies.torso.LANDMARKS` from
+its size chart or the leg's measuring points, heights given in a case's ``landmarks``, or for
+other bodies the rows where the hull girth has a prominent interior minimum or maximum
+(`girth_extrema`: ``girth_min_N``, ``girth_max_N``, named where ``body.kind`` says what it is),
 else the ``middle`` row. Its summary (`Landmark`) is taken along the girth line at its height
 (`girth_line`): each node quantity is interpolated linearly in height between the two rows
 around the line, column by column (along the warp lines), and the mean, max and min pressure
@@ -22,6 +23,7 @@ from typing import Protocol
 
 import numpy as np
 from numpy.typing import NDArray
+from scipy.signal import find_peaks
 
 from cloth.garment.grid import Grid
 from cloth.results.pressure import MMHG
@@ -147,21 +149,65 @@ def landmark_heights(state) -> dict[str, float]:
     return heights or girth_extrema(state)
 
 
+#: A girth extremum is a landmark when it stands out of the profile by this share of the
+#: median girth (find_peaks' prominence: 1 % is 9 mm on a 90 cm waist), ...
+PROMINENCE = 0.01
+#: ... and lies this far (m) from a more prominent one of its kind.
+SEPARATION = 0.05
+
+
 def girth_extrema(state) -> dict[str, float]:
-    """Landmarks of a body without a size chart: the rows where the body's hull girth has an
-    interior minimum or maximum (e.g. a waist, a hip), else the middle row."""
+    """Landmarks of a body without a size chart: the rows where the body's hull girth has a
+    prominent interior minimum or maximum (`scipy.signal.find_peaks`: prominence at least
+    `PROMINENCE` x the median girth, `SEPARATION` apart), ``girth_min_N`` / ``girth_max_N``
+    bottom to top, else the middle row. A wiggle of a scan's girth (a few mm over a few cm) is
+    not a landmark. Where the case says what the body is (``body.kind``), they are named
+    (`anatomical`)."""
     raw = state.attrs.get("hull_girth", "[]")
     girth = np.asarray(json.loads(raw) if isinstance(raw, str) else raw, dtype=float)
     z = state.x.reshape(state.grid.m, state.grid.n, 3)[..., 2].mean(axis=1)
     out: dict[str, float] = {}
     if girth.size == state.grid.m and girth.size >= 3:
-        d = np.diff(girth)
-        scale = max(float(np.ptp(girth)), 1e-12)
-        for j in range(1, girth.size - 1):
-            if abs(d[j - 1]) < 1e-6 * scale and abs(d[j]) < 1e-6 * scale:
-                continue  # flat: a cylinder has no extrema
-            if d[j - 1] < 0 <= d[j]:
-                out[f"girth_min_{len(out) + 1}"] = float(z[j])
-            elif d[j - 1] > 0 >= d[j]:
-                out[f"girth_max_{len(out) + 1}"] = float(z[j])
+        spacing = max(float(np.median(np.abs(np.diff(z)))), 1e-12)
+        options = {
+            "prominence": PROMINENCE * float(np.median(girth)),
+            "distance": max(1, round(SEPARATION / spacing)),
+        }
+        maxima = find_peaks(girth, **options)[0]
+        minima = find_peaks(-girth, **options)[0]
+        found = sorted([(int(j), "max") for j in maxima] + [(int(j), "min") for j in minima])
+        for number, (j, kind) in enumerate(found, start=1):
+            out[f"girth_{kind}_{number}"] = float(z[j])
+    kind = state.case.body.option("kind") if hasattr(state, "case") else None
+    if out and kind is not None:
+        out = anatomical(out, kind)
     return out or {"middle": float(0.5 * (z.min() + z.max()))}
+
+
+def anatomical(extrema: dict[str, float], kind: str) -> dict[str, float]:
+    """Girth extrema (`girth_extrema`) named for the body ``kind``: on a torso the lowest
+    minimum above a maximum is the waist, the maximum below it the hip and the one above it the
+    bust; on a leg the lowest minimum is B (the ankle), the maximum above it C (the calf) and the
+    minimum above that D (below the knee). Extrema without a name keep theirs."""
+    order = sorted(extrema.items(), key=lambda item: item[1])
+    kinds = [("max" if name.startswith("girth_max") else "min", name, z) for name, z in order]
+    names: dict[str, str] = {}
+    if kind == "torso":
+        for k, (what, name, _) in enumerate(kinds):
+            if what == "min" and any(w == "max" for w, _, _ in kinds[:k]):
+                below = [n for w, n, _ in kinds[:k] if w == "max"]
+                above = [n for w, n, _ in kinds[k + 1 :] if w == "max"]
+                names.update({name: "waist", below[-1]: "hip"})
+                if above:
+                    names[above[0]] = "bust"
+                break
+    elif kind == "leg":
+        wanted = iter([("min", "B"), ("max", "C"), ("min", "D")])
+        step = next(wanted)
+        for what, name, _ in kinds:
+            if what == step[0]:
+                names[name] = step[1]
+                step = next(wanted, None)
+                if step is None:
+                    break
+    return {names.get(name, name): z for name, z in order}
