@@ -22,3 +22,18 @@ def test_cylinder_example_obeys_laplace():
     fabric = run["state"].fabric
     arc = float(fabric.weft.stress(1 / (1 - 0.2) - 1)) * fabric.thickness  # N/m
     np.testing.assert_allclose(tension, arc, rtol=2e-3)
+
+
+def test_stocking_tissue_example_softens_the_calf_and_not_the_shin():
+    """docs/examples/stocking_tissue.py: under the soft, thick calf band (25 mm, 8 kPa) the
+    fabric sinks in, its hoop strain and so its pressure fall (measured: to about half the rigid
+    leg's); under the thin, stiff band over the lower shin (4 mm, 60 kPa) the pressure stays
+    within 10 % of the rigid leg's away from the band's edges, where the layer steps."""
+    run = runpy.run_path(str(EXAMPLES / "stocking_tissue.py"), run_name="example")
+    z, rigid, tissue = run["heights"], run["rigid"], run["tissue"]
+    thin, soft = run["bands"]
+    inside = lambda band, margin: (z > band["bottom"] + margin) & (z < band["top"] - margin)  # noqa: E731
+    calf, shin = inside(soft, 0.03), inside(thin, 0.03)
+    assert calf.sum() >= 5 and shin.sum() >= 2
+    assert np.mean(tissue[calf]) < 0.7 * np.mean(rigid[calf])
+    np.testing.assert_allclose(tissue[shin], rigid[shin], rtol=0.1)
