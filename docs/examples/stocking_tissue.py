@@ -64,8 +64,8 @@ if __name__ == "__main__":
     ax.plot(tissue / MMHG, heights, "r-", label="tissue: 10 mm, 20 kPa")
     colours = ("tab:blue", "tab:green")
     for band, colour in zip(BANDS, colours, strict=True):
-        ax.axhspan(band["bottom"], band["top"], color=colour, alpha=0.12,
-                   label=f"{band['thickness'] * 1e3:.0f} mm, {band['modulus'] / 1e3:.0f} kPa")  # fmt: skip
+        label = f"{band['thickness'] * 1e3:.0f} mm, {band['modulus'] / 1e3:.0f} kPa"
+        ax.axhspan(band["bottom"], band["top"], color=colour, alpha=0.12, label=label)
     for point in ("B", "C", "F"):
         ax.axhline(CHART.height[point], color="0.6", lw=0.6)
         ax.text(1.0, CHART.height[point], f" {point}", va="bottom", fontsize=8)
