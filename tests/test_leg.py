@@ -145,3 +145,22 @@ def test_a_stocking_on_a_circular_leg_is_laplace_row_by_row(tmp_path):
     assert ratio == pytest.approx(1.0, rel=1e-2)
     assert r[f] / r[b] > 2  # the thigh is more than twice the ankle
     assert mean["pressure"][b] / MMHG > mean["pressure"][f] / MMHG  # graduated
+
+
+def test_a_leg_given_point_by_point_is_the_chart_s_leg(tmp_path):
+    """Circumferences and heights at every point (no size) build the leg of those values; one
+    point left out is one line naming it; a size with one point over it changes that point."""
+    from cloth.bodies.leg import leg_of
+    from cloth.errors import InputError
+
+    m = leg_size("M")
+    given = {"circumference_cm": {p: 100 * m.girth[p] for p in POINTS},
+             "height_cm": {p: 100 * m.height[p] for p in POINTS}}  # fmt: skip
+    leg = leg_of(given)
+    assert leg.girth == pytest.approx(m.girth) and leg.height == pytest.approx(m.height)
+    assert SmoothLeg(leg).girth(m.height["C"])[0] == pytest.approx(m.girth["C"], abs=1e-9)
+    del given["circumference_cm"]["F"]
+    with pytest.raises(InputError, match="point F"):
+        leg_of(given)
+    wider = leg_of({"size": "M", "circumference_cm": {"C": 40.0}})
+    assert wider.girth["C"] == pytest.approx(0.40) and wider.girth["B"] == m.girth["B"]

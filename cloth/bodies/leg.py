@@ -118,6 +118,41 @@ def leg_size(size: str, path: str | Path = DEFAULT_LEG_CHART) -> LegChart:
     return sizes[size]
 
 
+def leg_of(spec: dict, chart_path: str | Path = DEFAULT_LEG_CHART) -> LegChart:
+    """The leg of a case's ``leg`` block: its ``size`` in the chart, with any of
+    ``circumference_cm``, ``height_cm`` and ``depth_ratio`` (point -> value) over it; without a
+    size, the block's own values at every point (depth ratios default to the chart's first
+    size's). `InputError` naming the point for a missing or bad value."""
+    given = {key: dict(spec.get(key) or {}) for key in ("circumference_cm", "height_cm",
+                                                        "depth_ratio")}  # fmt: skip
+    unknown = [p for values in given.values() for p in values if p not in POINTS]
+    if unknown:
+        raise InputError(
+            f"unknown measuring point {unknown[0]!r}; the points are {', '.join(POINTS)}",
+            field="body.leg",
+        )  # fmt: skip
+    if "size" in spec:
+        base = leg_size(spec["size"], chart_path)
+        name = str(spec["size"])
+    else:
+        missing = [p for p in POINTS for key in ("circumference_cm", "height_cm")
+                   if p not in given[key]]  # fmt: skip
+        if missing:
+            raise InputError(
+                f"point {missing[0]}: give size, or circumference_cm and height_cm at every "
+                f"point ({', '.join(POINTS)})", field="body.leg",
+            )  # fmt: skip
+        base = next(iter(read_leg_chart(chart_path).values()))
+        name = "given"
+    return LegChart(
+        name=name,
+        girth={p: given["circumference_cm"].get(p, 100 * base.girth[p]) / 100 for p in POINTS},
+        height={p: given["height_cm"].get(p, 100 * base.height[p]) / 100 for p in POINTS},
+        depth_ratio={p: given["depth_ratio"].get(p, base.depth_ratio[p]) for p in POINTS},
+        source="body.leg",
+    )
+
+
 def c2_profile(z: NDArray[np.float64], values: NDArray[np.float64]) -> BPoly:
     """The C2 profile through (z, values) (module docstring): quintic Hermite pieces with
     PCHIP's slopes and zero second derivatives at the points."""

@@ -17,7 +17,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from cloth.bodies.analytic import Cone, Cylinder, EllipticCylinder
-from cloth.bodies.leg import leg_mesh, leg_size
+from cloth.bodies.leg import DEFAULT_LEG_CHART, leg_mesh, leg_of
 from cloth.bodies.mesh import MeshBody
 from cloth.bodies.torso import chart_size, torso_mesh
 from cloth.io import sha256
@@ -105,7 +105,7 @@ def body_triangles(record: dict | str, z_low: float, z_high: float) -> Triangles
                                      TORSO_RINGS)  # fmt: skip
         return crop(vertices, faces, z_low, z_high)
     if "leg" in block:
-        vertices, faces = leg_mesh(leg_size(block["leg"]["size"], path))
+        vertices, faces = leg_mesh(leg_of(block["leg"], path or DEFAULT_LEG_CHART))
         return crop(vertices, faces, z_low, z_high)
     kinds = {"cylinder": Cylinder, "elliptic_cylinder": EllipticCylinder, "cone": Cone}
     for key, kind in kinds.items():

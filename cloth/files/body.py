@@ -6,7 +6,7 @@ from pathlib import Path
 
 from cloth.bodies.analytic import Cone, Cylinder, EllipticCylinder
 from cloth.bodies.base import Body
-from cloth.bodies.leg import DEFAULT_LEG_CHART, SmoothLeg, leg_mesh, leg_size
+from cloth.bodies.leg import DEFAULT_LEG_CHART, SmoothLeg, leg_mesh, leg_of
 from cloth.bodies.leg import POINTS as LEG_POINTS
 from cloth.bodies.mesh import MeshBody
 from cloth.bodies.surface import FitOptions
@@ -64,12 +64,12 @@ def body_from_config(block: dict, base_dir: str | Path = ".") -> tuple[Body, dic
         chart_path = DEFAULT_LEG_CHART
         if "chart" in spec:
             chart_path = input_file(spec["chart"], base_dir, None, "body.leg.chart", "leg chart")
-        chart = leg_size(spec["size"], chart_path)
+        chart = leg_of(spec, chart_path)
         if spec.get("surface", "smooth") == "smooth":
             body = SmoothLeg(chart)
         else:
             vertices, faces = leg_mesh(chart, spec.get("around", 96), spec.get("rings", 160))
-            body = MeshBody(vertices, faces, source=f"leg {spec['size']} ({chart_path})")
+            body = MeshBody(vertices, faces, source=f"leg {chart.name} ({chart_path})")
         ref.update(kind="leg", path=str(chart_path), sha256=sha256(chart_path))
         ref["landmarks"] = {p: chart.height[p] for p in LEG_POINTS}
     elif "cylinder" in block:
