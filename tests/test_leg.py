@@ -164,3 +164,37 @@ def test_a_leg_given_point_by_point_is_the_chart_s_leg(tmp_path):
         leg_of(given)
     wider = leg_of({"size": "M", "circumference_cm": {"C": 40.0}})
     assert wider.girth["C"] == pytest.approx(0.40) and wider.girth["B"] == m.girth["B"]
+
+
+def test_a_leaning_leg_has_exact_derivatives_and_the_chart_s_girths():
+    """A leg leaning 8 degrees forward: the implicit function's gradient and Hessian equal
+    central differences, closest points are feet of the normal, and the horizontal sections'
+    girths at the points are still the chart's."""
+    chart = leg_size("M")
+    leg = SmoothLeg(chart, 8.0)
+    z = np.linspace(chart.bottom + 0.01, chart.top - 0.01, 60)
+    angle = np.linspace(0, 2 * np.pi, 60, endpoint=False)
+    rng = np.random.default_rng(3)
+    p = np.column_stack([0.12 * np.cos(angle), 0.12 * np.sin(angle), z])
+    p[:, 1] += np.tan(np.radians(8.0)) * (z - chart.height["B"]) + rng.normal(0, 0.005, 60)
+    q = leg.closest(p)
+    assert np.abs(leg.implicit(q)[0]).max() <= 1e-10
+    _, g, h = leg.implicit(q)
+    step = 1e-6
+    for axis in range(3):
+        dq = np.zeros(3)
+        dq[axis] = step
+        plus, minus = leg.implicit(q + dq), leg.implicit(q - dq)
+        np.testing.assert_allclose(g[:, axis], (plus[0] - minus[0]) / (2 * step),
+                                   atol=1e-6 * np.abs(g).max())  # fmt: skip
+        np.testing.assert_allclose(h[:, :, axis], (plus[1] - minus[1]) / (2 * step),
+                                   atol=1e-6 * np.abs(h).max())  # fmt: skip
+    normal = g / np.linalg.norm(g, axis=1, keepdims=True)
+    along = p - q
+    np.testing.assert_allclose(np.cross(along, normal), 0.0, atol=1e-9)
+    for point in POINTS:
+        section = leg._polygon(chart.height[point])
+        assert perimeter(section) == pytest.approx(chart.girth[point], abs=5e-4)
+    centre = leg._polygon(chart.height["G"]).mean(axis=0)
+    lean = np.tan(np.radians(8.0)) * (chart.height["G"] - chart.height["B"])
+    assert centre[1] == pytest.approx(lean, abs=1e-3)

@@ -3,8 +3,9 @@
 The chart (`read_leg_chart`; default ``data/bodies/leg_chart.csv``) gives per size the
 circumference and the height above the floor at B (the ankle above the malleoli), B1, C (the
 calf), D (below the knee), E, F (mid-thigh) and G (top of the thigh), and the depth/width ratio
-of the section at each. The leg's sections are ellipses (`EXPONENT` 2; no flatter shin) about a
-vertical axis (no lean), each scaled so that its perimeter is the girth at its height
+of the section at each. The leg's sections are ellipses (`EXPONENT` 2; no flatter shin), each
+scaled so that its perimeter is the girth at its height; their centres lie on a vertical axis
+or one leaning forward from B by ``lean_deg`` (the sections stay horizontal)
 (`cloth.bodies.sectioned.SectionedBody`). The leg runs from `BELOW` under B to `ABOVE` over G,
 its girth there `BELOW_GIRTH` x B's and `ABOVE_GIRTH` x G's.
 
@@ -179,15 +180,27 @@ def _profiles(chart: LegChart):
 
 
 def leg_mesh(
-    chart: LegChart, around: int = 96, rings: int = 160
+    chart: LegChart, around: int = 96, rings: int = 160, lean_deg: float = 0.0
 ) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
     """Vertices ((V, 3), m, z up, the shin towards +y) and outward faces ((F, 3)) of the leg:
-    ``around`` points on ``rings`` rings, a ring at every measuring point."""
+    ``around`` points on ``rings`` rings, a ring at every measuring point; the sections'
+    centres leaning forward by ``lean_deg`` from B (`SmoothLeg`)."""
     if around < 8 or rings < 8:
         raise InputError("the leg needs at least 8 points around and 8 rings", field="leg")
     girth, depth, front = _profiles(chart)
     heights = ring_heights(chart.bottom, chart.top, rings, [chart.height[p] for p in POINTS])
-    return ring_mesh(heights, around, girth, depth, front, EXPONENT)
+    vertices, faces = ring_mesh(heights, around, girth, depth, front, EXPONENT)
+    vertices[:, 1] += lean_slope(lean_deg) * (vertices[:, 2] - chart.height["B"])
+    return vertices, faces
+
+
+def lean_slope(lean_deg: float) -> float:
+    """The centres' forward slope dy/dz of a leg leaning ``lean_deg`` degrees (|lean| < 30)."""
+    if not abs(lean_deg) < 30:
+        raise InputError(
+            f"a lean of {lean_deg} degrees; give less than 30", field="body.leg.lean_deg"
+        )
+    return float(np.tan(np.radians(lean_deg)))
 
 
 @dataclass(frozen=True, eq=False)
@@ -195,9 +208,12 @@ class SmoothLeg(SectionedBody):
     """The smooth lateral surface of the parametric leg of ``chart`` (heights in m)."""
 
     chart: LegChart
+    lean_deg: float = 0.0
     bottom: float = field(init=False)
     top: float = field(init=False)
     exponent: float = field(init=False, default=EXPONENT)
 
     def __post_init__(self) -> None:
-        self._build(self.chart.bottom, self.chart.top, *_profiles(self.chart), EXPONENT)
+        chart = self.chart
+        self._build(chart.bottom, chart.top, *_profiles(chart), EXPONENT,
+                    lean_slope(self.lean_deg), chart.height["B"])  # fmt: skip

@@ -147,16 +147,22 @@ class SectionedBody(ImplicitBody, AnalyticBody):
     bottom: float
     top: float
     exponent: float
+    #: The sections' centres lean forward: y_c(z) = lean (z - lean_origin) (1; 0 upright).
+    lean: float = 0.0
+    lean_origin: float = 0.0
 
     def _build(
         self, bottom: float, top: float, girth: Profile, depth: Profile, front: Profile,
-        exponent: float,
+        exponent: float, lean: float = 0.0, lean_origin: float = 0.0,
     ) -> None:  # fmt: skip
         """Sample the profiles (girth m, depth/width ratio, front share of the depth) into the
-        splines of a, b_front and b_back between ``bottom`` and ``top`` (m)."""
+        splines of a, b_front and b_back between ``bottom`` and ``top`` (m); the centres lean
+        by ``lean`` (dy/dz) from the height ``lean_origin`` (m)."""
         object.__setattr__(self, "bottom", float(bottom))
         object.__setattr__(self, "top", float(top))
         object.__setattr__(self, "exponent", float(exponent))
+        object.__setattr__(self, "lean", float(lean))
+        object.__setattr__(self, "lean_origin", float(lean_origin))
         z = np.linspace(bottom, top, PROFILE_SAMPLES)
         d, f = depth(z), front(z)
         scale = girth(z) / unit_perimeter(d, f, 1024, exponent)
@@ -190,32 +196,47 @@ class SectionedBody(ImplicitBody, AnalyticBody):
     def implicit(self, q: NDArray) -> tuple[NDArray, NDArray, NDArray]:
         """G ((P,)), its gradient ((P, 3), 1/m) and Hessian ((P, 3, 3), 1/m^2) at q."""
         p = self.exponent
-        x, y, z = q[:, 0], q[:, 1], q[:, 2]
+        z = q[:, 2]
+        centred = self._centred(q)  # x, y - y_c(z): the section's own coordinates
         (a, bf, bb), (da, dbf, dbb), (dda, ddbf, ddbb) = self._profile(z)
-        front = y >= 0
+        front = centred[:, 1] >= 0
         b, db, ddb = np.where(front, bf, bb), np.where(front, dbf, dbb), np.where(front, ddbf, ddbb)
-        gradient = np.empty((len(q), 3))
+        gradient = np.zeros((len(q), 3))
         hessian = np.zeros((len(q), 3, 3))
         value = -np.ones(len(q))
-        for axis, s, ds, dds in ((0, a, da, dda), (1, b, db, ddb)):
-            u = q[:, axis] / s
+        # u = (coordinate - centre(z)) / s(z); k = the centre's slope (0 for x; the lean for y)
+        for axis, s, ds, dds, k in ((0, a, da, dda, 0.0), (1, b, db, ddb, self.lean)):
+            u = centred[:, axis] / s
             au, sg = np.abs(u), np.sign(u)
             second = au ** (p - 2)  # one power; the others from it (p > 2: 0 at u = 0)
             first = second * au
             power = first * au
             value += power
             gradient[:, axis] = p * first * sg / s
+            gradient[:, 2] -= p * power * ds / s
             hessian[:, axis, axis] = p * (p - 1) * second / s**2
             hessian[:, axis, 2] = hessian[:, 2, axis] = -(p**2) * first * sg * ds / s**2
             hessian[:, 2, 2] += p * power * ((p + 1) * ds**2 / s**2 - dds / s)
-        gradient[:, 2] = -p * (np.abs(x / a) ** p * da / a + np.abs(y / b) ** p * db / b)
+            if k:
+                gradient[:, 2] -= p * first * sg * k / s
+                hessian[:, axis, 2] -= p * (p - 1) * second * k / s**2
+                hessian[:, 2, axis] = hessian[:, axis, 2]
+                hessian[:, 2, 2] += p * (p - 1) * second * k**2 / s**2
+                hessian[:, 2, 2] += 2 * p**2 * k * first * sg * ds / s**2
         return value, gradient, hessian
+
+    def _centred(self, q: NDArray) -> NDArray:
+        """(P, 2): points' x and y less their height's section centre (0, y_c(z))."""
+        out = q[:, :2].copy()
+        if self.lean:
+            out[:, 1] -= self.lean * (q[:, 2] - self.lean_origin)
+        return out
 
     def _level(self, p: NDArray) -> tuple[NDArray, NDArray]:
         """(|x/a|^p + |y/b|^p)^(1/p) at points p ((P,), < 1 inside, 1 on the surface, the
         factor by which p lies outside along the horizontal ray from the axis) and a (m)."""
         a, bf, bb = self._profile(p[:, 2])[0]
-        x, y = p[:, 0], p[:, 1]
+        x, y = self._centred(p).T
         b = np.where(y >= 0, bf, bb)
         p = self.exponent
         return (np.abs(x / a) ** p + np.abs(y / b) ** p) ** (1 / p), a
@@ -224,11 +245,13 @@ class SectionedBody(ImplicitBody, AnalyticBody):
         """The surface point on the horizontal ray from the axis through p (a first guess), and
         whether p lies outside (its level is at least 1)."""
         level, a = self._level(p)
-        x, y = p[:, 0], p[:, 1]
+        x, y = self._centred(p).T
         on_axis = level < 1e-12
         t = 1.0 / np.where(on_axis, 1.0, level)
         q = np.column_stack([x * t, y * t, p[:, 2]])
         q[on_axis, 0], q[on_axis, 1] = a[on_axis], 0.0
+        if self.lean:
+            q[:, 1] += self.lean * (p[:, 2] - self.lean_origin)
         return q, level >= 1.0
 
     # -- the Body protocol (queries from `ImplicitBody`) -------------------------------------
@@ -236,7 +259,8 @@ class SectionedBody(ImplicitBody, AnalyticBody):
     def _polygon(self, z: float) -> NDArray[np.float64]:
         t = 2 * np.pi * np.arange(SECTION_POINTS) / SECTION_POINTS
         a, front, back = self._profile(np.array([z]))[0][:, 0]
-        return np.column_stack(section(t, a, front, back, self.exponent))
+        x, y = section(t, a, front, back, self.exponent)
+        return np.column_stack([x, y + self.lean * (z - self.lean_origin)])
 
     def _perimeter(self, z: float) -> float:
         return float(self._girth(z))

@@ -105,7 +105,9 @@ def body_triangles(record: dict | str, z_low: float, z_high: float) -> Triangles
                                      TORSO_RINGS)  # fmt: skip
         return crop(vertices, faces, z_low, z_high)
     if "leg" in block:
-        vertices, faces = leg_mesh(leg_of(block["leg"], path or DEFAULT_LEG_CHART))
+        leg = block["leg"]
+        chart = leg_of(leg, path or DEFAULT_LEG_CHART)
+        vertices, faces = leg_mesh(chart, lean_deg=leg.get("lean_deg", 0.0))
         return crop(vertices, faces, z_low, z_high)
     kinds = {"cylinder": Cylinder, "elliptic_cylinder": EllipticCylinder, "cone": Cone}
     for key, kind in kinds.items():

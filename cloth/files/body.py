@@ -66,9 +66,11 @@ def body_from_config(block: dict, base_dir: str | Path = ".") -> tuple[Body, dic
             chart_path = input_file(spec["chart"], base_dir, None, "body.leg.chart", "leg chart")
         chart = leg_of(spec, chart_path)
         if spec.get("surface", "smooth") == "smooth":
-            body = SmoothLeg(chart)
+            body = SmoothLeg(chart, float(spec.get("lean_deg", 0.0)))
         else:
-            vertices, faces = leg_mesh(chart, spec.get("around", 96), spec.get("rings", 160))
+            vertices, faces = leg_mesh(
+                chart, spec.get("around", 96), spec.get("rings", 160), spec.get("lean_deg", 0.0)
+            )
             body = MeshBody(vertices, faces, source=f"leg {chart.name} ({chart_path})")
         ref.update(kind="leg", path=str(chart_path), sha256=sha256(chart_path))
         ref["landmarks"] = {p: chart.height[p] for p in LEG_POINTS}
