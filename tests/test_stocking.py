@@ -14,6 +14,9 @@ import yaml
 from cloth.bodies.leg import POINTS
 from tests.pipeline import ROOT, from_checkout, snakemake
 
+#: The pipeline of config/stocking.yaml end to end: about 2 minutes on 2 cores (make test-slow).
+pytestmark = pytest.mark.slow
+
 SMALL = {
     "sweep": {"bodies": ["leg_M"], "reductions": [0.12, 0.20], "garment": {"grid": [16, 24]}},
     "profile_designs": {"graded": {"garment": {"grid": [16, 24]}}},
