@@ -56,11 +56,13 @@ def _equilibrium(body: str, edges: str):
 @pytest.mark.parametrize("body", ["cylinder", "cone", "torso"])
 def test_adjoint_equals_central_differences(body, edges):
     """Every line's row of the Jacobian within 1e-5 of its largest entry (measured: 1e-10 on
-    the cylinder and cone, 1e-8 and 6e-7 on the torso); the means are the landmarks'."""
+    the cylinder and cone, 1e-8 and 6e-7 on the torso); the means are the landmarks'. With
+    SuperLU relax keeps its last factor and the adjoint factorises nothing; CHOLMOD and pardiso
+    keep none, and the adjoint factorises once."""
     state, shape, settings, result = _equilibrium(body, edges)
     heights = landmark_heights(state)
-    if body == "torso":  # Newton kept its last factor: the adjoint refines, factorises nothing
-        assert result.factor is not None
+    if body == "torso" and result.linear_solver == "superlu":
+        assert result.factor is not None  # Newton kept its last factor: nothing is factorised
     before = factorisations()
     sens = sensitivities(state, shape, result.final, heights, result.factor)
     assert factorisations() - before == (0 if result.factor is not None else 1)
