@@ -52,36 +52,29 @@ def torso_file(
     """The parametric torso of ``size`` in ``chart`` (girths overridden in cm) as a mesh."""
     import dataclasses
 
-    import trimesh
-
     spec = chart_size(size, chart or DEFAULT_CHART)
     if girths_cm:
         spec = dataclasses.replace(
             spec, girth={**spec.girth, **{k: v / 100 for k, v in girths_cm.items()}}
         )
-    vertices, faces = torso_mesh(spec, around, rings)
-    mesh = trimesh.Trimesh(vertices, faces, process=False)
-    suffix = output.suffix.lstrip(".").lower() or "ply"
-    with atomic_output(output) as tmp:
-        mesh.export(tmp, file_type=suffix)
-    log.info(
-        "wrote %s: torso %s, %d vertices, %d faces, girths (m) %s",
-        output, spec.name, len(vertices), len(faces),
-        ", ".join(f"{k} {v:.4g}" for k, v in spec.girth.items()),
-    )  # fmt: skip
+    _write_mesh(*torso_mesh(spec, around, rings), output, f"torso {spec.name}", spec.girth)
 
 
 def leg_file(size: str, chart: Path | None, around: int, rings: int, output: Path) -> None:
     """The parametric leg of ``size`` in ``chart`` (`cloth.bodies.leg`) as a mesh."""
+    spec = leg_size(size, chart or DEFAULT_LEG_CHART)
+    _write_mesh(*leg_mesh(spec, around, rings), output, f"leg {spec.name}", spec.girth)
+
+
+def _write_mesh(vertices, faces, output: Path, what: str, girth: dict[str, float]) -> None:
+    """A parametric body's mesh to ``output`` (format from its suffix, default PLY), logged."""
     import trimesh
 
-    spec = leg_size(size, chart or DEFAULT_LEG_CHART)
-    vertices, faces = leg_mesh(spec, around, rings)
     mesh = trimesh.Trimesh(vertices, faces, process=False)
     suffix = output.suffix.lstrip(".").lower() or "ply"
     with atomic_output(output) as tmp:
         mesh.export(tmp, file_type=suffix)
     log.info(
-        "wrote %s: leg %s, %d vertices, %d faces, girths (m) %s", output, spec.name,
-        len(vertices), len(faces), ", ".join(f"{k} {v:.4g}" for k, v in spec.girth.items()),
+        "wrote %s: %s, %d vertices, %d faces, girths (m) %s", output, what, len(vertices),
+        len(faces), ", ".join(f"{k} {v:.4g}" for k, v in girth.items()),
     )  # fmt: skip
