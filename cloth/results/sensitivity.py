@@ -141,11 +141,13 @@ def _area_gradient(x: NDArray[np.float64], grid: Grid, weight: NDArray) -> NDArr
 
 
 def line_gradient(
-    problem: Problem, ev: Evaluation, k: sp.csr_matrix, height: float, hessian_blocks: NDArray
-) -> LineGradient | None:
+    problem: Problem, ev: Evaluation, k: sp.csr_matrix, height: float, turn: NDArray,
+    area: NDArray, m: NDArray,
+) -> LineGradient | None:  # fmt: skip
     """The girth line at ``height`` (m): its mean pressure and dJ/dx (module docstring); None
-    where the line is beyond the garment. ``k``: the exact stiffness ((3N, 3N), N m-1);
-    ``hessian_blocks``: (N, 3, 3) m-1, the signed distance's Hessian at the held nodes."""
+    where the line is beyond the garment. ``k``: the exact stiffness ((3N, 3N), N m-1); the
+    same for every line: ``turn`` ((N, 3, 3) m-1, `_direction_turn`), ``area`` ((N,) m2,
+    `cloth.garment.grid.node_area`) and ``m`` ((N, 3), `reaction_direction`)."""
     grid = problem.grid
     n = grid.n
     rows_z = ev.x.reshape(grid.m, n, 3)[..., 2].mean(axis=1)
@@ -154,8 +156,6 @@ def line_gradient(
         return None
     below, above, t = line
     held = ev.on_body
-    area = node_area(ev.x, grid)
-    m = reaction_direction(ev.normal, problem.constraint)
     push = -np.einsum("ij,ij->i", ev.loads, m)
     weight = np.zeros(grid.n_nodes)
     weight[below * n : (below + 1) * n] += 1.0 - t
@@ -165,7 +165,6 @@ def line_gradient(
     c = weight / area
     value = float(weight @ pressure)
     v = c[:, None] * m
-    turn = _direction_turn(ev.normal, problem.constraint, hessian_blocks)
     gradient = (k @ v.ravel()).reshape(-1, 3)
     gradient -= c[:, None] * np.einsum("nji,nj->ni", turn, ev.loads)
     gradient += _area_gradient(ev.x, grid, -weight * pressure / area)
@@ -230,9 +229,12 @@ def sensitivities(
     projected = np.einsum("nij,knj->kni", projector, d_forces).reshape(len(d_forces), -1)
     if factor is None:
         factor = _factor(matrix)
+    turn = _direction_turn(ev.normal, problem.constraint, hessian_blocks)  # once, not per line
+    area = node_area(ev.x, state.grid)
+    direction = reaction_direction(ev.normal, problem.constraint)
     names, means, jac = [], [], []
     for name, height in sorted(heights.items(), key=lambda item: item[1]):
-        line = line_gradient(problem, ev, k(False), height, hessian_blocks)
+        line = line_gradient(problem, ev, k(False), height, turn, area, direction)
         if line is None:
             continue
         mu = _refined_solve(matrix, factor, line.gradient.ravel())
