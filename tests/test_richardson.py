@@ -84,8 +84,8 @@ def test_on_a_cylinder_the_estimate_is_the_true_error_and_the_order_is_two():
     ("levels", "reason"),
     [
         ((2379.0, 2370.0, 2376.0), "monotonically"),  # the waist's old nearest-row sequence
-        ((2379.0, 2379.0, 2370.0), "same value"),
-        ((100.0, 100.001, 110.0), "outside"),  # order 13: not asymptotic
+        ((2379.0, 2370.0, 2370.0), "same value"),  # the coarse pair equal: nothing shrinks
+        ((100.0, 110.0, 121.0), "outside"),  # order 0.14: the levels hardly converge
         ((100.0, math.nan, 110.0), "finite"),
     ],
 )
@@ -94,3 +94,29 @@ def test_levels_that_show_no_order_give_no_error_number(levels, reason):
     assert not estimate.observed and reason in estimate.reason
     assert math.isnan(estimate.error) and math.isnan(estimate.extrapolated)
     assert math.isnan(estimate.relative_error)
+
+
+@pytest.mark.parametrize(
+    ("levels", "stated"),
+    [
+        ((2343.0, 2345.0, 2314.0), 3 * 2.0),  # the waist band: wobbles by 2 Pa after 31 Pa
+        ((2379.0, 2379.0, 2370.0), 3 * 9.0 / 16),  # two equal fine levels: floored at 3 |far| / 2^4
+        ((100.0, 100.001, 110.0), 3 * 9.999 / 16),  # order 13: converged, faster than any order
+    ],
+)
+def test_levels_that_converge_without_an_order_state_three_times_the_finest_difference(
+    levels, stated
+):
+    """Roache's two-grid index with the safety factor 3 where the finest difference is at most
+    half the coarser one, floored at what order 4 would leave; nothing extrapolated, flag 6."""
+    estimate = richardson(*levels)
+    assert estimate.observed and estimate.code == 6 and "finest difference" in estimate.reason
+    assert estimate.uncertainty == pytest.approx(stated, rel=1e-12)
+    assert math.isnan(estimate.order) and math.isnan(estimate.extrapolated)
+    assert estimate.relative_error == pytest.approx(stated / levels[0], rel=1e-12)
+
+
+def test_levels_that_do_not_shrink_stay_without_an_error():
+    """A finest difference more than half the coarser one, of either sign, is no convergence."""
+    for levels in ((100.0, 110.0, 100.0), (100.0, 94.0, 105.0)):
+        assert not richardson(*levels).observed

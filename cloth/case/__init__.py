@@ -2,10 +2,11 @@
 skin models' `Tissue`, `Contact` and `Skin`."""
 
 from cloth.case.case import BODY_KINDS, BodySpec, Case, GarmentSpec
+from cloth.case.reading import Reading, Sensor
 from cloth.case.settings import LINEAR_SOLVERS, METHODS, Settings
 from cloth.case.skin import SLIP_FRACTION, Band, Contact, Skin, Tissue
 
 __all__ = [
     "BODY_KINDS", "LINEAR_SOLVERS", "METHODS", "SLIP_FRACTION", "Band", "BodySpec", "Case",
-    "Contact", "GarmentSpec", "Settings", "Skin", "Tissue",
+    "Contact", "GarmentSpec", "Reading", "Sensor", "Settings", "Skin", "Tissue",
 ]  # fmt: skip

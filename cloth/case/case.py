@@ -12,6 +12,7 @@ body           `BodySpec` (kind, its block, `Tissue`)      `cloth.files.body.bod
 garment        `GarmentSpec`                               `cloth.garment.predeform`
 contact        `Contact` (friction, slip length)           `Case.skin`
 landmarks      name -> height, m                           `cloth.stages.results`
+girth_reading  `Reading` (band, probe; with ``sensors``)   `cloth.results.bands`
 judge          `Judge` (classes, graduation, bands)        `cloth.results.judging`
 solver         `Settings`                                  `cloth.solvers.relax`
 =============  ==========================================  ===================================
@@ -35,6 +36,7 @@ from typing import Any
 
 from cloth.case.judge import Judge
 from cloth.case.profile import Profile
+from cloth.case.reading import Reading
 from cloth.case.settings import Settings
 from cloth.case.skin import Contact, Skin, Tissue
 from cloth.errors import InputError
@@ -151,6 +153,7 @@ class Case:
     landmarks: Mapping[str, float]
     _data: Mapping[str, Any] = field(repr=False)
     judge: Judge = field(default_factory=Judge)
+    reading: Reading = field(default_factory=Reading)
 
     @property
     def skin(self) -> Skin:
@@ -185,7 +188,14 @@ class Case:
             tissue = Tissue.from_block(tissue_block, garment.bottom, garment.top)
         contact_block = data.get("contact") or {}
         contact = Contact(contact_block.get("friction", 0.0), contact_block.get("slip_length"))
-        solver = _settings(data.get("solver") or {})
+        block = data["solver"] = dict(data.get("solver") or {})
+        # the fast path by default where it is one answer: Newton without friction (with the
+        # tension field the energy is convex, so continuation ends where plain Newton does;
+        # docs/validation.md, "Path agreement"); friction follows the path from the wrap
+        fast = block.get("method", "newton") == "newton" and not contact.friction
+        block.setdefault("continuation", fast)
+        block.setdefault("reuse", fast)
+        solver = _settings(block)
         Skin(tissue, contact).check_solver(solver.method, solver.continuation)
         return cls(
             material=str(data["material"]),
@@ -198,6 +208,7 @@ class Case:
             ),
             _data=MappingProxyType(data),
             judge=Judge.from_block(data.get("judge")),
+            reading=Reading.from_blocks(data.get("girth_reading"), data.get("sensors")),
         )
 
 

@@ -149,7 +149,7 @@ def build_parser() -> argparse.ArgumentParser:
     ingest.add_argument(
         "--compression-ratio",
         type=float,
-        help="compression modulus / initial slope (default 0.01; 0: a pure tension field)",
+        help="compression modulus / initial slope (default 0: a pure tension field)",
     )
     ingest.add_argument("--name", help="fabric name (default: header name or file stem)")
     _json_option(ingest, "a config's material block (docs/config.md)")

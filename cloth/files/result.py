@@ -7,8 +7,11 @@ Node fields (dims ``row``, ``col``): positions ``x``, ``y``, ``z`` (m), rest coo
 (N), ``contact`` and ``constraint`` (flags), ``beyond_lab_range`` (flags). Spring fields (dim
 ``spring``): ``spring_stress`` (Pa, signed), ``spring_slack`` (flags),
 ``spring_strain`` (1), ``spring_family`` (flags), ``spring_node_a``/``_b``. Per iteration: the
-solver history. Per landmark (dim ``landmark``): ``landmark_height`` (m), ``pressure_mean``,
-``pressure_max``, ``pressure_min`` (Pa), ``tension_mean`` (N m-1). Totals: ``total_force`` and
+solver history. Per landmark (dim ``landmark``): ``landmark_height`` (m), ``pressure_mean`` (the
+body band's), ``pressure_max``, ``pressure_min`` (a probe's readings around the girth; Pa),
+``tension_mean`` (N m-1) and the row diagnostics ``row_pressure_mean``, ``_max``, ``_min`` (Pa;
+`cloth.results.landmarks`). Per sensor (dim ``sensor``) where the case places them: what each
+reads. Totals: ``total_force`` and
 ``total_moment`` (dim ``xyz``; N, N m) of the fabric on the body, ``normal_force`` (N, sum of
 the normal reactions), ``pressure_integral`` (N, sum of pressure x node area). Plus the fabric
 curves, the case, body and provenance attributes. CF-1.11, written atomically.
@@ -27,6 +30,7 @@ import xarray as xr
 
 from cloth.case import Case
 from cloth.case.judge import Judge
+from cloth.case.reading import Reading
 from cloth.files.levels import estimate_columns
 from cloth.files.material import fabric_variables
 from cloth.files.state import CONSTRAINT_MEANINGS, CONTACT_MEANINGS
@@ -35,7 +39,7 @@ from cloth.garment.state import State
 from cloth.io import atomic_output, flag_variable, global_attrs, node_variable, to_attr, variable
 from cloth.results.fields import Fields
 from cloth.results.judging import judged
-from cloth.results.landmarks import LANDMARK_FIELDS, Landmark
+from cloth.results.landmarks import LANDMARK_FIELDS, ROW_FIELDS, Landmark
 from cloth.results.pressure import MMHG
 
 KIND = "result"
@@ -139,7 +143,7 @@ def result_dataset(
         ),
     }
     variables.update(pattern_variables(state))
-    for name, (attribute, units, long_name) in LANDMARK_FIELDS.items():
+    for name, (attribute, units, long_name) in (LANDMARK_FIELDS | ROW_FIELDS).items():
         variables[name] = xr.Variable(
             "landmark", [getattr(m, attribute) for m in marks],
             {"units": units, "long_name": long_name},
@@ -171,6 +175,31 @@ def result_dataset(
         }
     )
     return xr.Dataset(variables, coords=coords, attrs={k: to_attr(v) for k, v in attrs.items()})
+
+
+def sensor_variables(reading: Reading, values: np.ndarray) -> dict[str, xr.Variable]:
+    """The case's sensors (dim ``sensor``; `cloth.case.reading`): ``sensor_height`` (m),
+    ``sensor_angle`` (degree), ``sensor_diameter`` (m) and ``sensor_pressure`` ((S,) Pa, what
+    each reads); none where the case places no sensor."""
+    if not reading.sensors:
+        return {}
+    sensors = reading.sensors
+    return {
+        "sensor": xr.Variable("sensor", [s.name for s in sensors], {"long_name": "sensor"}),
+        "sensor_height": variable("sensor", [s.height for s in sensors], "m", "sensor height"),
+        "sensor_angle": variable(
+            "sensor",
+            [s.angle for s in sensors],
+            "degree",
+            "sensor angle about the up axis from +x towards +y",
+        ),
+        "sensor_diameter": variable(
+            "sensor", [s.diameter for s in sensors], "m", "sensor footprint diameter"
+        ),
+        "sensor_pressure": variable(
+            "sensor", values, "Pa", "pressure the sensor reads (contact force over area)"
+        ),
+    }
 
 
 def pattern_variables(state: State) -> dict[str, xr.Variable]:
@@ -212,6 +241,7 @@ def summary_rows(ds: xr.Dataset, case_name: str) -> list[dict[str, object]]:
             str(name), float(ds["landmark_height"][index]), -1,
             float(ds["pressure_mean"][index]), float(ds["pressure_max"][index]),
             float(ds["pressure_min"][index]), float(ds["tension_mean"][index]),
+            float(ds["row_pressure_mean"][index]) if "row_pressure_mean" in ds else np.nan,
         )  # fmt: skip
         record = mark.record()
         record.pop("row")

@@ -3,11 +3,11 @@
 A `StressStrainCurve` is the paper's piecewise-linear approximation of a lab curve sigma(eps):
 knots (eps_i, sigma_i) with eps_0 = 0 and sigma_0 = 0, linear between knots, linear beyond the
 last knot with the last slope. Fabric buckles rather than carrying compression, so below zero
-strain the stress follows a small compression modulus ``E_c`` (default ``COMPRESSION_RATIO``
-times the initial slope; a user option) instead of the tensile slope. It keeps the rows from
-crowding where the warp is compressed (with E_c = 0 the torso's waist pressure grows without
-converging as the grid is refined), and makes saddles, which relax leaves (docs/model.md,
-"Compressed fabric").
+strain the stress follows a compression modulus ``E_c`` (default ``COMPRESSION_RATIO`` times the
+initial slope: 0, a pure tension field; a user option) instead of the tensile slope. With
+E_c = 0 and a curve that never falls, each spring's energy is a convex, non-decreasing function
+of its length, hence convex in the node positions: the fabric has no saddle equilibria, and
+every solver path ends on the same one (docs/model.md, "Compressed fabric").
 
 The strain-energy density psi(eps) = int_0^eps sigma is exact for such curves (piecewise
 quadratic), so a spring network built from them has a true total energy: equilibrium is its
@@ -26,9 +26,9 @@ from numpy.typing import ArrayLike, NDArray
 
 from cloth.errors import InputError
 
-#: Default compression modulus as a fraction of the curve's initial (tensile) slope
-#: (docs/model.md, "Compressed fabric").
-COMPRESSION_RATIO = 0.01
+#: Default compression modulus as a fraction of the curve's initial (tensile) slope: a pure
+#: tension field (docs/model.md, "Compressed fabric").
+COMPRESSION_RATIO = 0.0
 
 Direction = Literal["weft", "warp", "bias"]
 DIRECTIONS: tuple[str, ...] = ("weft", "warp", "bias")
@@ -51,8 +51,8 @@ class StressStrainCurve:
     knot_stress : (K,) float, Pa
         Knot stresses, with stress[0] = 0.
     compression_modulus : float, Pa, optional
-        Slope of sigma for eps < 0 (buckling fabric carries little compression). Default
-        ``COMPRESSION_RATIO`` (1 %) x the slope of the first rising segment.
+        Slope of sigma for eps < 0 (buckling fabric carries no compression). Default
+        ``COMPRESSION_RATIO`` (0) x the slope of the first rising segment.
 
     Examples
     --------

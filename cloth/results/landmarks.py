@@ -4,15 +4,22 @@ A landmark is a height on the body: the parametric torso's `cloth.bodies.torso.L
 its size chart or the leg's measuring points, heights given in a case's ``landmarks``, or for
 other bodies the rows where the hull girth has a prominent interior minimum or maximum
 (`girth_extrema`: ``girth_min_N``, ``girth_max_N``, named where ``body.kind`` says what it is),
-else the ``middle`` row. Its summary (`Landmark`) is taken along the girth line at its height
-(`girth_line`): each node quantity is interpolated linearly in height between the two rows
-around the line, column by column (along the warp lines), and the mean, max and min pressure
-(Pa, with mmHg; judged by `cloth.results.judging`) and the mean weft tension (N m-1)
-are those of the interpolated values. A line at or beyond an edge row (within half a row
-spacing) takes that row, whose nodes are held by the edge: the edge row keeps its own values.
-So a line's value moves smoothly with the grid, where the nearest row would jump from row to row
-(issue 29: the waist's steps of 46, 27 and 3 Pa over four grids). `LANDMARK_FIELDS` names the
-summaries in result.nc and sweep.nc.
+else the ``middle`` row.
+
+Its summary (`Landmark`) is read on the body (`cloth.results.bands`): the mean pressure is the
+contact force in a band of the body around the line's height over the band's area, the max and
+min are a pressure probe's largest and smallest readings around the girth, the tension the
+band's mean weft tension (N m-1); pressures in Pa, with mmHg, judged by
+`cloth.results.judging`. The band and the probe are the case's ``girth_reading``
+(`cloth.case.reading`). The fabric's rows move (issue 40: where the warp is slack they gather,
+and the row values grew without converging), the body does not, so the band values converge
+with the grid where the row values did not.
+
+The row values stay as diagnostics (``row_mean``, ``row_max``, ``row_min``): each node quantity
+interpolated linearly in height between the two rows around the line, column by column (along
+the warp lines; `girth_line`, `along`), a line within half a row spacing beyond an edge row
+taking that row. `LANDMARK_FIELDS` names the summaries in result.nc and sweep.nc that carry
+error estimates; `ROW_FIELDS` the diagnostics.
 """
 
 from __future__ import annotations
@@ -24,27 +31,34 @@ from typing import Protocol
 import numpy as np
 from numpy.typing import NDArray
 
+from cloth.case.reading import Reading
 from cloth.garment.grid import Grid
+from cloth.results.bands import around, band_weights, probe_readings, weighted_mean
 from cloth.results.pressure import MMHG
-
-#: The parametric torso's girth lines, bottom to top.
 
 
 class NodeFields(Protocol):
     """What a landmark summary reads of the node fields (`cloth.results.fields.Fields`): (N,)
-    pressure (Pa), on-body flag and weft tension (N m-1)."""
+    pressure (Pa), on-body flag, weft tension (N m-1) and deformed node area (m2)."""
 
     pressure: NDArray[np.float64]
     on_body: NDArray[np.int8]
     tension_weft: NDArray[np.float64]
+    area: NDArray[np.float64]
 
 
 #: Girth-line summary variables: Landmark attribute, units, long name (result.nc, sweep.nc).
 LANDMARK_FIELDS = {
-    "pressure_mean": ("mean", "Pa", "mean pressure on the girth line"),
-    "pressure_max": ("max", "Pa", "max pressure on the girth line"),
-    "pressure_min": ("min", "Pa", "min pressure on the girth line"),
-    "tension_mean": ("tension", "N m-1", "mean weft tension on the girth line"),
+    "pressure_mean": ("mean", "Pa", "mean pressure in the body band around the girth line"),
+    "pressure_max": ("max", "Pa", "largest probe reading around the girth line"),
+    "pressure_min": ("min", "Pa", "smallest probe reading around the girth line"),
+    "tension_mean": ("tension", "N m-1", "mean weft tension in the band around the girth line"),
+}
+#: The row-based diagnostics (no error estimate): Landmark attribute, units, long name.
+ROW_FIELDS = {
+    "row_pressure_mean": ("row_mean", "Pa", "mean pressure along the fabric rows at the line"),
+    "row_pressure_max": ("row_max", "Pa", "max pressure along the fabric rows at the line"),
+    "row_pressure_min": ("row_min", "Pa", "min pressure along the fabric rows at the line"),
 }
 
 
@@ -55,10 +69,13 @@ class Landmark:
     name: str
     height: float  # m
     row: int
-    mean: float  # Pa
-    max: float
-    min: float
-    tension: float  # N m-1, mean hoop tension of the row
+    mean: float  # Pa, the band's
+    max: float  # Pa, the largest probe reading
+    min: float  # Pa, the smallest probe reading
+    tension: float  # N m-1, the band's mean weft tension
+    row_mean: float = float("nan")  # Pa, the row diagnostics
+    row_max: float = float("nan")
+    row_min: float = float("nan")
 
     def record(self) -> dict[str, object]:
         """A summary row with Pa, kPa and mmHg (classes and bands: `cloth.results.judging`)."""
@@ -74,6 +91,7 @@ class Landmark:
             "pressure_max_mmHg": self.max / MMHG,
             "pressure_min_mmHg": self.min / MMHG,
             "tension_weft_mean_N_per_m": self.tension,
+            "row_pressure_mean_Pa": self.row_mean,
         }
 
 
@@ -112,32 +130,63 @@ def along(values: NDArray[np.float64], line: tuple[int, int, float]) -> NDArray[
 
 
 def landmarks(
-    heights: dict[str, float], x: NDArray[np.float64], fields: NodeFields, grid: Grid
+    heights: dict[str, float],
+    x: NDArray[np.float64],
+    fields: NodeFields,
+    grid: Grid,
+    reading: Reading | None = None,
 ) -> list[Landmark]:
-    """Pressure and tension summaries along the girth line at each landmark height
-    (module docstring), bottom to top; a node off the body presses with 0 Pa."""
+    """The summary of the girth line at each landmark height (module docstring), bottom to
+    top, read as ``reading`` says (default `Reading()`); a line beyond the garment (more than
+    half a row spacing past its edge rows) has none."""
+    reading = reading or Reading()
     rows_z = x.reshape(grid.m, grid.n, 3)[..., 2].mean(axis=1)
-    contact = fields.on_body.reshape(grid.m, grid.n).astype(bool)
-    pressure = np.where(contact, fields.pressure.reshape(grid.m, grid.n), 0.0)
-    tension = fields.tension_weft.reshape(grid.m, grid.n)
+    contact = fields.on_body.astype(bool)
+    pressure = np.where(contact, fields.pressure, 0.0)
+    force = pressure * fields.area
+    tension = np.nan_to_num(fields.tension_weft)
+    angles = around(reading)
     out = []
     for name, height in sorted(heights.items(), key=lambda item: item[1]):
         line = girth_line(rows_z, height)
         if line is None:
             continue
-        values = along(pressure, line)
+        weight = band_weights(x[:, 2], (grid.m, grid.n), height, reading).value
+        probes = probe_readings(
+            x, force, fields.area, height, angles, reading.probe_diameter, reading
+        )
+        rows = along(pressure.reshape(grid.m, grid.n), line)
         out.append(
             Landmark(
                 name,
                 float(height),
                 nearest_row(rows_z, height),
-                float(values.mean()),
-                float(values.max()),
-                float(values.min()),
-                float(np.nanmean(along(tension, line))),
+                weighted_mean(force, fields.area, weight),
+                float(np.nanmax(probes)) if np.isfinite(probes).any() else float("nan"),
+                float(np.nanmin(probes)) if np.isfinite(probes).any() else float("nan"),
+                weighted_mean(tension * fields.area, fields.area, weight),
+                float(rows.mean()),
+                float(rows.max()),
+                float(rows.min()),
             )
         )
     return out
+
+
+def sensor_readings(
+    reading: Reading, x: NDArray[np.float64], fields: NodeFields
+) -> NDArray[np.float64]:
+    """(S,) Pa: what each of the case's sensors (`cloth.case.reading.Sensor`) reads
+    (`cloth.results.bands.probe_readings`); NaN where its footprint holds no garment."""
+    force = np.where(fields.on_body.astype(bool), fields.pressure, 0.0) * fields.area
+    return np.array(
+        [
+            probe_readings(
+                x, force, fields.area, s.height, np.array([s.angle]), s.diameter, reading
+            )[0]
+            for s in reading.sensors
+        ]
+    )
 
 
 def landmark_heights(state) -> dict[str, float]:

@@ -1,15 +1,16 @@
 """Sensitivities of the girth-line mean pressures to the pattern, by the adjoint of the equilibrium.
 
 The controls theta are the knot values of the case's reduction profile (`cloth.case.profile`;
-one for a uniform reduction). A girth line's mean pressure (`cloth.results.landmarks`) is
+one for a uniform reduction). A girth line's mean pressure is read on the body
+(`cloth.results.bands`):
 
-    J = (1/n) sum_c [(1 - t) p(below, c) + t p(above, c)],   p_i = lambda_i / a_i on the body,
+    J = N / D,   N = sum_i w_i lambda_i,   D = sum_i w_i a_i,
 
-with lambda_i = -R_i . m_i the body's reaction on node i (`cloth.solvers.common.body_push`:
-m_i = n_i, or n_h / |n_h|^2 at a sliding edge node), a_i its deformed tributary area and t the
-line's weight between the mean heights of the rows around it. At an equilibrium P R(x, theta)
-= 0, the moves its constraints allow (the projector P, the body's contact set held fixed, as the
-Newton step holds it), a change of the pattern moves the garment by dx = M^-1 P dR/dtheta
+with lambda_i = -R_i . m_i the body's reaction on node i where it is held (0 elsewhere;
+`cloth.solvers.common.body_push`: m_i = n_i, or n_h / |n_h|^2 at a sliding edge node), a_i its
+deformed tributary area and w_i the band's weight (the kernel averaged over node i's span of
+height). At an equilibrium P R(x, theta) = 0, the moves its constraints allow (the projector
+P, the body's contact set held fixed, as the Newton step holds it), a change of the pattern moves the garment by dx = M^-1 P dR/dtheta
 dtheta, M the exact constrained Newton matrix (`cloth.solvers.stability.exact_matrix`: the
 stiffness less the contact's curvature term, in the allowed directions). So
 
@@ -17,9 +18,11 @@ stiffness less the contact's curvature term, in the allowed directions). So
 
 one solve per girth line with M's factor, whatever the number of knots:
 
-* dJ/dx: lambda's through the stiffness K v (v_i = w_i m_i / (n a_i), one product with the
-  sparse K) and through the normal's turn on the curved body (the Hessian H of the signed
-  distance); the areas' through the cells' cross products; t's through the rows' mean heights;
+* dJ/dx = (dN/dx - J dD/dx) / D: lambda's through the stiffness K v (v_i = w_i m_i / D, one
+  product with the sparse K) and through the normal's turn on the curved body (the Hessian H
+  of the signed distance); the areas' through the cells' cross products; the weights' through
+  the heights of the nodes' spans (`cloth.results.bands.BandWeights.chain`), with
+  (lambda_i - J a_i) / D;
 * partial R / partial theta: each spring's force sigma(eps) A along it changes with its rest
   length L0 (by -sigma'(eps) A l / L0^2) and its area A (by sigma); L0 and A of every spring
   come from the pattern (`cloth.garment.predeform.recut`) by central differences in the row
@@ -47,6 +50,8 @@ from cloth.garment.grid import SLIDING, Grid, node_area
 from cloth.garment.mechanics import _operators
 from cloth.garment.predeform import recut
 from cloth.garment.state import State
+from cloth.case.reading import Reading
+from cloth.results.bands import band_weights
 from cloth.results.landmarks import girth_line
 from cloth.solvers.activeset import held_nodes
 from cloth.solvers.linear import _factor
@@ -141,39 +146,38 @@ def _area_gradient(x: NDArray[np.float64], grid: Grid, weight: NDArray) -> NDArr
 
 
 def line_gradient(
-    problem: Problem, ev: Evaluation, k: sp.csr_matrix, height: float, turn: NDArray,
-    area: NDArray, m: NDArray,
-) -> LineGradient | None:  # fmt: skip
-    """The girth line at ``height`` (m): its mean pressure and dJ/dx (module docstring); None
-    where the line is beyond the garment. ``k``: the exact stiffness ((3N, 3N), N m-1); the
-    same for every line: ``turn`` ((N, 3, 3) m-1, `_direction_turn`), ``area`` ((N,) m2,
-    `cloth.garment.grid.node_area`) and ``m`` ((N, 3), `reaction_direction`)."""
+    problem: Problem,
+    ev: Evaluation,
+    k: sp.csr_matrix,
+    height: float,
+    turn: NDArray,
+    area: NDArray,
+    m: NDArray,
+    reading: Reading,
+) -> LineGradient | None:
+    """The girth line at ``height`` (m): its band mean and dJ/dx (module docstring); None where
+    the line is beyond the garment. ``k``: the exact stiffness ((3N, 3N), N m-1); the same for
+    every line: ``turn`` ((N, 3, 3) m-1, `_direction_turn`), ``area`` ((N,) m2,
+    `cloth.garment.grid.node_area`), ``m`` ((N, 3), `reaction_direction`) and ``reading``
+    (the band, `cloth.case.reading.Reading`)."""
     grid = problem.grid
-    n = grid.n
-    rows_z = ev.x.reshape(grid.m, n, 3)[..., 2].mean(axis=1)
-    line = girth_line(rows_z, height)
-    if line is None:
+    rows_z = ev.x.reshape(grid.m, grid.n, 3)[..., 2].mean(axis=1)
+    if girth_line(rows_z, height) is None:
         return None
-    below, above, t = line
     held = ev.on_body
-    push = -np.einsum("ij,ij->i", ev.loads, m)
-    weight = np.zeros(grid.n_nodes)
-    weight[below * n : (below + 1) * n] += 1.0 - t
-    weight[above * n : (above + 1) * n] += t
-    weight = np.where(held, weight / n, 0.0)
-    pressure = np.where(held, push / area, 0.0)
-    c = weight / area
-    value = float(weight @ pressure)
+    push = np.where(held, -np.einsum("ij,ij->i", ev.loads, m), 0.0)  # the contact force f_i
+    band = band_weights(ev.x[:, 2], (grid.m, grid.n), height, reading)
+    weight = band.value
+    total = float(weight @ area)  # D, the band's area
+    if total <= 0:
+        return None
+    value = float(weight @ push) / total  # J = N / D
+    c = np.where(held, weight / total, 0.0)
     v = c[:, None] * m
     gradient = (k @ v.ravel()).reshape(-1, 3)
     gradient -= c[:, None] * np.einsum("nji,nj->ni", turn, ev.loads)
-    gradient += _area_gradient(ev.x, grid, -weight * pressure / area)
-    if above != below:  # the line's weight t moves with the rows' mean heights
-        span = rows_z[above] - rows_z[below]
-        rows = pressure.reshape(grid.m, n)
-        slope = float(rows[above].mean() - rows[below].mean())  # dJ/dt
-        gradient[below * n : (below + 1) * n, 2] += slope * (t - 1.0) / span / n
-        gradient[above * n : (above + 1) * n, 2] += slope * (-t) / span / n
+    gradient += _area_gradient(ev.x, grid, -value * weight / total)
+    gradient[:, 2] += band.chain((push - value * area) / total)  # the weights move with z
     return LineGradient(value, v, gradient)
 
 
@@ -234,7 +238,9 @@ def sensitivities(
     direction = reaction_direction(ev.normal, problem.constraint)
     names, means, jac = [], [], []
     for name, height in sorted(heights.items(), key=lambda item: item[1]):
-        line = line_gradient(problem, ev, k(False), height, turn, area, direction)
+        line = line_gradient(
+            problem, ev, k(False), height, turn, area, direction, state.case.reading
+        )
         if line is None:
             continue
         mu = _refined_solve(matrix, factor, line.gradient.ravel())

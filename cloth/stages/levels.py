@@ -71,7 +71,7 @@ def girth_marks(state: State, final: Evaluation, heights: dict[str, float]) -> t
         state.grid, final.x, final.springs, state.fabric.thickness, final.forces,
         final.unbalanced, final.on_body, final.normal, state.constraint,
     )  # fmt: skip
-    return tuple(landmarks(heights, final.x, fields, state.grid))
+    return tuple(landmarks(heights, final.x, fields, state.grid, state.case.reading))
 
 
 def relax_level(

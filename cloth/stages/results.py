@@ -16,14 +16,14 @@ from cloth.figures.plots import plot_result
 from cloth.figures.view import write_view
 from cloth.files import levels
 from cloth.files.body import body_from_record
-from cloth.files.result import result_dataset, summary_rows, write_summary
+from cloth.files.result import result_dataset, sensor_variables, summary_rows, write_summary
 from cloth.files.skin import result_skin_variables
 from cloth.files.state import read_state
 from cloth.garment.grid import WEFT
 from cloth.garment.mechanics import spring_state
 from cloth.io import read_netcdf, write_netcdf
 from cloth.results.fields import lab_range_variables, node_average, node_fields
-from cloth.results.landmarks import landmark_heights, landmarks
+from cloth.results.landmarks import landmark_heights, landmarks, sensor_readings
 from cloth.results.resolution import mesh_spacing, row_spacing
 from cloth.solvers.problem import Evaluation, Problem
 from cloth.solvers.stability import unstable_modes
@@ -45,8 +45,10 @@ def aggregate(relaxed_path: str | Path) -> tuple[xr.Dataset, list]:
         state.grid, state.x, ev.springs, state.fabric.thickness, ev.forces, ev.unbalanced,
         ev.on_body, ev.normal, state.constraint,
     )  # fmt: skip
-    marks = landmarks(landmark_heights(state), state.x, fields, state.grid)
+    reading = state.case.reading
+    marks = landmarks(landmark_heights(state), state.x, fields, state.grid, reading)
     result = result_dataset(state, fields, marks, ds)
+    result = result.assign(sensor_variables(reading, sensor_readings(reading, state.x, fields)))
     result = result.assign(_estimates(state, marks, ds))
     result = result.assign(_resolution(state, body, marks))
     if "x_initial" in ds:
