@@ -23,6 +23,7 @@ import csv
 import io as _io
 import json
 import subprocess
+from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
@@ -41,6 +42,7 @@ from cloth.results.fields import Fields
 from cloth.results.judging import judged
 from cloth.results.landmarks import LANDMARK_FIELDS, ROW_FIELDS, Landmark
 from cloth.results.pressure import MMHG
+from cloth.results.regions import Region, note
 
 KIND = "result"
 #: The solver history copied from relaxed.nc, per iteration.
@@ -177,6 +179,41 @@ def result_dataset(
     return xr.Dataset(variables, coords=coords, attrs={k: to_attr(v) for k, v in attrs.items()})
 
 
+def region_variables(
+    found: Sequence[Region], marks: list[Landmark], shape: tuple[int, int]
+) -> dict[str, xr.Variable]:
+    """Per region (`cloth.results.regions`: ``slack_warp``, ``off_body``) of a grid of
+    ``shape`` (m, n): its node flag ``{name}`` (``slack_warp`` only: ``off_body`` is the
+    complement of ``contact``), ``{name}_share`` (1, of the garment's area), ``{name}_ranges``
+    ((R, 2) m, dims ``{name}_range`` and ``bound``: bottom, top) and ``landmark_{name}`` (flag:
+    the region meets the line's band)."""
+    flags = {"flag_values": np.array([0, 1], np.int8), "flag_meanings": "no yes"}
+    out: dict[str, xr.Variable] = {}
+    for item in found:
+        label = item.name.replace("_", " ")
+        if item.name != "off_body":
+            out[item.name] = node_variable(
+                shape, item.flag.astype(np.int8), "1", f"node in the {label} region", **flags
+            )
+        out[f"{item.name}_share"] = variable(
+            (), item.share, "1", f"share of the garment's area in the {label} region"
+        )
+        out[f"{item.name}_ranges"] = variable(
+            (f"{item.name}_range", "bound"),
+            item.ranges,
+            "m",
+            f"height ranges of the {label} region (bottom, top)",
+        )
+        out[f"landmark_{item.name}"] = variable(
+            "landmark",
+            np.array([m.name in item.lines for m in marks], np.int8),
+            "1",
+            f"the {label} region meets the girth line's band",
+            **flags,
+        )
+    return out
+
+
 def sensor_variables(reading: Reading, values: np.ndarray) -> dict[str, xr.Variable]:
     """The case's sensors (dim ``sensor``; `cloth.case.reading`): ``sensor_height`` (m),
     ``sensor_angle`` (degree), ``sensor_diameter`` (m) and ``sensor_pressure`` ((S,) Pa, what
@@ -253,11 +290,27 @@ def summary_rows(ds: xr.Dataset, case_name: str) -> list[dict[str, object]]:
         }  # fmt: skip
         rows.append(
             {"case": case_name, **record, **estimate_columns(ds, index), **extra,
-             "converged": int(ds.attrs.get("converged", 0))}
+             **_region_columns(ds, index), "converged": int(ds.attrs.get("converged", 0))}
         )  # fmt: skip
     case = ds.attrs.get("case")
     judge = Case.from_dict(json.loads(case)).judge if case else Judge()
     return judged(rows, judge)
+
+
+def _region_columns(ds: xr.Dataset, index: int) -> dict[str, object]:
+    """summary.csv's region columns of the ``index``-th girth line (`cloth.results.regions`):
+    whether the slack warp and the lifted garment meet its band (0/1), and the words."""
+    if "landmark_slack_warp" not in ds:
+        return {}
+    slack = int(ds["landmark_slack_warp"][index])
+    off = int(ds["landmark_off_body"][index])
+    case = json.loads(ds.attrs.get("case", "{}"))
+    friction = float((case.get("contact") or {}).get("friction", 0.0))
+    return {
+        "warp_slack": slack,
+        "off_body": off,
+        "friction_note": note(bool(slack), bool(off), friction),
+    }
 
 
 def write_summary(rows: list[dict[str, object]], path: str | Path) -> Path:

@@ -16,7 +16,13 @@ from cloth.figures.plots import plot_result
 from cloth.figures.view import write_view
 from cloth.files import levels
 from cloth.files.body import body_from_record
-from cloth.files.result import result_dataset, sensor_variables, summary_rows, write_summary
+from cloth.files.result import (
+    region_variables,
+    result_dataset,
+    sensor_variables,
+    summary_rows,
+    write_summary,
+)
 from cloth.files.skin import result_skin_variables
 from cloth.files.state import read_state
 from cloth.garment.grid import WEFT
@@ -24,6 +30,7 @@ from cloth.garment.mechanics import spring_state
 from cloth.io import read_netcdf, write_netcdf
 from cloth.results.fields import lab_range_variables, node_average, node_fields
 from cloth.results.landmarks import landmark_heights, landmarks, sensor_readings
+from cloth.results.regions import Region, regions
 from cloth.results.resolution import mesh_spacing, row_spacing
 from cloth.solvers.problem import Evaluation, Problem
 from cloth.solvers.stability import unstable_modes
@@ -49,27 +56,63 @@ def aggregate(relaxed_path: str | Path) -> tuple[xr.Dataset, list]:
     marks = landmarks(landmark_heights(state), state.x, fields, state.grid, reading)
     result = result_dataset(state, fields, marks, ds)
     result = result.assign(sensor_variables(reading, sensor_readings(reading, state.x, fields)))
+    found = regions(
+        fields.strain_warp,
+        fields.on_body,
+        state.x,
+        fields.area,
+        state.grid.m,
+        {mark.name: mark.height for mark in marks},
+        reading.half_width,
+    )
+    result = result.assign(region_variables(found, marks, (state.grid.m, state.grid.n)))
+    _log_regions(found, state.case.contact.friction)
     result = result.assign(_estimates(state, marks, ds))
     result = result.assign(_resolution(state, body, marks))
     if "x_initial" in ds:
         start = np.stack([ds[f"{a}_initial"].values.ravel() for a in "xyz"], axis=1)
         before = node_average(state.grid, spring_state(start, state.grid).stress, WEFT)
         result = result.assign(
-            {
-                f"{a}_initial": ds[f"{a}_initial"].variable for a in "xyz"
-            }
+            {f"{a}_initial": ds[f"{a}_initial"].variable for a in "xyz"}
             | {
                 "stress_weft_initial": (
-                    ("row", "col"), before.reshape(state.grid.m, state.grid.n),
+                    ("row", "col"),
+                    before.reshape(state.grid.m, state.grid.n),
                     {"units": "Pa", "long_name": "weft stress before relaxation"},
                 )
             }
-        )  # fmt: skip
+        )
     result = result.assign(lab_range_variables(state, ev.springs.strain))
     result = result.assign(result_skin_variables(state.grid, ev, ds, problem.tissue))
     result.attrs["unstable_modes"] = stability(problem, ev, ds.attrs.get("solver_unstable_modes"))
     name = Path(relaxed_path).parent.name
     return result, summary_rows(result, name)
+
+
+def _log_regions(found: tuple[Region, ...], friction: float) -> None:
+    """One log line per region that meets a girth line (`cloth.results.regions`)."""
+    words = {
+        "slack_warp": "the warp is slack (the fabric gathers)",
+        "off_body": "the garment lifts off the body (it bridges)",
+    }
+    for item in found:
+        if not item.share:
+            continue
+        spans = ", ".join(f"{1e3 * low:.0f}-{1e3 * high:.0f} mm" for low, high in item.ranges)
+        log.info(
+            "%s on %.1f %% of the garment's area, at heights %s",
+            words[item.name],
+            100 * item.share,
+            spans,
+        )
+        if item.lines and not friction:
+            log.warning(
+                "%s at the girth line%s %s: the pressure there depends on the skin's friction, "
+                "which this frictionless model leaves out (contact.friction)",
+                words[item.name],
+                "" if len(item.lines) == 1 else "s",
+                ", ".join(item.lines),
+            )
 
 
 def _estimates(state, marks: list, relaxed: xr.Dataset) -> dict[str, xr.Variable]:
