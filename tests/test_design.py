@@ -55,6 +55,9 @@ def _cylinder_design(material: str, lengthwise: float):
         "garment": {"bottom": 0.1, "top": 0.4, "grid": [N, 13], "reduction": 0.2,
                     "lengthwise_reduction": lengthwise, "error_estimate": False},
         "solver": {"tolerance": 1.0e-12},
+        # a band within the line's own row's span (rows 2.5 cm apart): the row's pressure alone,
+        # so that Laplace's law row by row is the answer (a 2 cm band mixes graded rows)
+        "girth_reading": {"half_width": 0.01},
     }  # fmt: skip
     state = initial_state(case, ROOT)
     targets = [Target(line, p * MMHG) for line, p in TARGETS.items()]
