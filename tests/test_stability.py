@@ -157,11 +157,10 @@ def test_relax_leaves_a_saddle_for_a_minimum_and_counts_its_modes(tmp_path, reus
     count, 0, which a fresh factorisation at that equilibrium confirms."""
     from dataclasses import replace
 
+    from cloth.cli import main
     from cloth.files.body import body_from_config
     from cloth.solvers import Settings, relax
     from cloth.stages.case import initial_state
-
-    from cloth.cli import main
 
     root = Path(__file__).resolve().parents[1]
     regularised = tmp_path / "powernet_c1.nc"
