@@ -151,10 +151,11 @@ def test_a_pure_tension_field_has_no_unstable_mode():
 @pytest.mark.parametrize("reuse", [False, True], ids=["plain", "reuse"])
 def test_relax_leaves_a_saddle_for_a_minimum_and_counts_its_modes(tmp_path, reuse):
     """A tube on a cone pushes its rows up the slope and compresses the warp: with a 1 %
-    compression modulus (the power net ingested so) Newton converges to a saddle (unstable modes counted afresh at it; relax
-    reports the same count from its own last factor). With ``leave_saddles`` relax moves along
-    its unstable modes and converges again, to a minimum of lower energy, and reports its
-    count, 0, which a fresh factorisation at that equilibrium confirms."""
+    compression modulus (the power net ingested so) Newton converges to a saddle (unstable
+    modes counted afresh at it; relax reports the same count from its own last factor). With
+    ``leave_saddles`` relax moves along its unstable modes and converges again, to a minimum of
+    lower energy, and reports its count, 0, which a fresh factorisation at that equilibrium
+    confirms."""
     from dataclasses import replace
 
     from cloth.cli import main
