@@ -43,10 +43,17 @@ def test_the_words_say_what_the_frictionless_model_leaves_out():
 
 def _torso(folder, lengthwise: float) -> xr.Dataset:
     case = {
-        "material": "powernet", "body": {"torso": {"size": "M"}},
-        "garment": {"bottom": 0.80, "top": 1.25, "reduction": 0.20, "grid": [48, 24],
-                    "lengthwise_reduction": lengthwise, "error_estimate": False},
-    }  # fmt: skip
+        "material": "powernet",
+        "body": {"torso": {"size": "M"}},
+        "garment": {
+            "bottom": 0.80,
+            "top": 1.25,
+            "reduction": 0.20,
+            "grid": [48, 24],
+            "lengthwise_reduction": lengthwise,
+            "error_estimate": False,
+        },
+    }
     out = run_result(folder, case)
     with xr.open_dataset(out / "result.nc") as ds:
         return ds.load(), out / "summary.csv"

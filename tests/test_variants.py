@@ -118,3 +118,58 @@ def test_sweep_nc_gains_a_dimension_per_varied_key_and_csv_sets_worn_beside_new(
     with open(out / "design.csv", newline="") as handle:
         design = list(csv.DictReader(handle))
     assert len(design) == 4 and {"friction", "worn"} <= set(design[0])
+
+
+def test_a_sweep_over_lengthwise_reductions_names_its_cases_and_replaces_the_garments():
+    config = copy.deepcopy(CONFIG)
+    config["sweep"]["lengthwise_reductions"] = [0.0, 0.1]
+    config["sweep"].pop("frictions", None)
+    plan = make_plan(config, ROOT)
+    names = {e["case"] for e in plan.index}
+    assert {"powernet__torso_M__r150", "powernet__torso_M__r150__lw100"} <= names
+    assert plan.cases["powernet__torso_M__r150__lw100"].garment.lengthwise_reduction == 0.1
+    assert plan.cases["powernet__torso_M__r150"].garment.lengthwise_reduction == 0.0
+    entry = next(e for e in plan.index if e["case"] == "powernet__torso_M__r150__lw100")
+    assert entry["lengthwise_reduction"] == 0.1
+    assert Variant(lengthwise_reduction=0.1).label() == "lengthwise 0.1"
+    assert Variant.of({"lengthwise_reduction": "0.1"}).tag() == "__lw100"
+
+
+def test_on_a_cylinder_the_lengthwise_reduction_scales_the_pressure_by_one_less_it(tmp_path):
+    """Rows held at their heights on a cylinder: a lengthwise reduction r stretches the warp by
+    1 / (1 - r) - 1 and leaves the hoop tension per rest width as it was, so Laplace's pressure,
+    per deformed width, is (1 - r) times the unstretched one: sweep.nc's new dimension says so."""
+    import xarray as xr
+
+    block = {
+        "material": "powernet",
+        "body": {"cylinder": {"radius": 0.1, "top": 0.5}},
+        "garment": {"bottom": 0.1, "top": 0.4, "grid": [24, 7], "reduction": 0.15},
+        "solver": {"tolerance": 1e-10},
+        "landmarks": {"middle": 0.25},
+    }
+    index = []
+    for lengthwise in (0.0, 0.1):
+        variant = Variant(lengthwise_reduction=lengthwise)
+        name = f"c{variant.tag()}"
+        path = tmp_path / f"{name}.yaml"
+        path.write_text(yaml.safe_dump(variant.apply(block, None)))
+        run_case(path, tmp_path / "results" / "cases" / name, {}, stop_after="aggregate")
+        index.append(
+            {
+                "case": name,
+                "material": "powernet",
+                "body": "cylinder",
+                "reduction": 0.15,
+                "lengthwise_reduction": lengthwise,
+            }
+        )
+    out = tmp_path / "results"
+    results = [out / "cases" / entry["case"] / "result.nc" for entry in index]
+    sweep_files(index, results, [], out / "sweep.nc", out / "sweep.csv", out / "design.png")
+    with xr.open_dataset(out / "sweep.nc") as ds:
+        assert "lengthwise_reduction" in ds["pressure_mean"].dims
+        assert ds["lengthwise_reduction"].attrs["units"] == "1"
+        p = ds["pressure_mean"].sel(landmark="middle").squeeze()
+        ratio = float(p.sel(lengthwise_reduction=0.1) / p.sel(lengthwise_reduction=0.0))
+    assert ratio == pytest.approx(0.9, rel=1e-3)

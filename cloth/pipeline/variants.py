@@ -1,15 +1,19 @@
-"""The sweep's skin and wear variants: tissue modulus, skin friction, new or worn.
+"""The sweep's variants: tissue modulus, skin friction, new or worn, lengthwise reduction.
 
 A sweep varies materials, bodies and reductions, and optionally (config ``sweep``):
 
 * ``tissue_moduli``: Young's moduli of the soft tissue, Pa (``.inf`` or null: a rigid body),
   with ``tissue_thickness`` (m) for the layer;
 * ``frictions``: Coulomb friction coefficients between fabric and skin (0: frictionless);
-* ``worn``: ``[false, true]`` for the new and the worn garment (`cloth.garment.worn`).
+* ``worn``: ``[false, true]`` for the new and the worn garment (`cloth.garment.worn`);
+* ``lengthwise_reductions``: the warp's reduction (1), replacing the sweep garment's
+  ``lengthwise_reduction``: first order on the pressure (the taut warp lifts the fabric off the
+  body's hollows; docs/model.md), so a design question is answered per value.
 
 Each combination is a `Variant`; its case is the sweep case's block with the variant applied
 (`Variant.apply`) and its name the sweep name plus `Variant.tag` (empty for the default
-variant: a rigid body, no friction, new, so a sweep that varies none of them keeps its names).
+variant: a rigid body, no friction, new, the garment's own lengthwise reduction or none, so a
+sweep that varies none of them keeps its names).
 The index entry of a case carries each varied key (`entry_keys`), and ``sweep.nc`` a dimension
 per varied key (`cloth.pipeline.sweep.collect`).
 """
@@ -23,15 +27,21 @@ from dataclasses import dataclass
 from typing import Any
 
 #: The variant keys, as index entries, design rows and sweep.nc dimensions name them.
-KEYS = ("tissue_modulus", "friction", "worn")
+KEYS = ("tissue_modulus", "friction", "worn", "lengthwise_reduction")
 #: The sweep config's list of each key.
-CONFIG_KEYS = {"tissue_modulus": "tissue_moduli", "friction": "frictions", "worn": "worn"}
+CONFIG_KEYS = {
+    "tissue_modulus": "tissue_moduli",
+    "friction": "frictions",
+    "worn": "worn",
+    "lengthwise_reduction": "lengthwise_reductions",
+}
 #: Coordinate attributes of each key in sweep.nc.
 COORDINATES = {
     "tissue_modulus": {"units": "Pa", "long_name": "soft tissue Young's modulus (inf: rigid)"},
     "friction": {"units": "1", "long_name": "fabric-skin friction coefficient"},
     "worn": {"units": "1", "long_name": "garment worn", "flag_values": [0, 1],
              "flag_meanings": "new worn"},
+    "lengthwise_reduction": {"units": "1", "long_name": "lengthwise (warp) pattern reduction"},
 }  # fmt: skip
 
 
@@ -39,6 +49,13 @@ def _number(value: Any) -> float:
     if value is None or (isinstance(value, str) and value.lower() in ("", "inf", "rigid")):
         return math.inf
     return float(value)
+
+
+def _optional(value: Any) -> float | None:
+    if value is None or (isinstance(value, str) and value.strip() == ""):
+        return None
+    number = float(value)
+    return None if math.isnan(number) else number
 
 
 def _flag(value: Any) -> bool:
@@ -49,11 +66,13 @@ def _flag(value: Any) -> bool:
 
 @dataclass(frozen=True)
 class Variant:
-    """Tissue modulus (Pa, inf: rigid), friction coefficient (1), worn (bool)."""
+    """Tissue modulus (Pa, inf: rigid), friction coefficient (1), worn (bool), lengthwise
+    reduction (1; None: the sweep garment's own)."""
 
     tissue_modulus: float = math.inf
     friction: float = 0.0
     worn: bool = False
+    lengthwise_reduction: float | None = None
 
     @classmethod
     def of(cls, entry: Mapping[str, Any]) -> Variant:
@@ -63,6 +82,7 @@ class Variant:
             _number(entry.get("tissue_modulus")),
             float(entry.get("friction", 0.0) or 0.0),
             _flag(entry.get("worn", False)),
+            _optional(entry.get("lengthwise_reduction")),
         )
 
     def tag(self) -> str:
@@ -74,6 +94,8 @@ class Variant:
             parts.append(f"__mu{round(100 * self.friction):03d}")
         if self.worn:
             parts.append("__worn")
+        if self.lengthwise_reduction:
+            parts.append(f"__lw{round(1000 * self.lengthwise_reduction):03d}")
         return "".join(parts)
 
     def label(self) -> str:
@@ -85,10 +107,13 @@ class Variant:
             parts.append(f"mu {self.friction:g}")
         if self.worn:
             parts.append("worn")
+        if self.lengthwise_reduction is not None:
+            parts.append(f"lengthwise {self.lengthwise_reduction:g}")
         return ", ".join(parts)
 
     def apply(self, block: dict, tissue_thickness: float | None) -> dict:
-        """The case block with this variant: body.tissue, contact.friction, garment.worn."""
+        """The case block with this variant: body.tissue, contact.friction, garment.worn and
+        garment.lengthwise_reduction."""
         block = dict(block)
         if math.isfinite(self.tissue_modulus):
             tissue = {"thickness": tissue_thickness, "modulus": self.tissue_modulus}
@@ -97,6 +122,9 @@ class Variant:
             block["contact"] = {**block.get("contact", {}), "friction": self.friction}
         if self.worn:
             block["garment"] = {**block["garment"], "worn": True}
+        if self.lengthwise_reduction is not None:
+            garment = {**block["garment"], "lengthwise_reduction": self.lengthwise_reduction}
+            block["garment"] = garment
         return block
 
 
