@@ -1,11 +1,13 @@
-"""One answer, whatever the path (issue 29, item 4): the torso case relaxed by plain Newton and
-by Newton with continuation and reuse, every reported quantity side by side.
+"""One answer, whatever the path (issues 29 and 40): the torso case relaxed by plain Newton and
+by the default fast path (continuation and reuse), every reported quantity side by side.
 
     .venv/bin/python benchmarks/path_agreement.py [--grids 96x48 192x96] [--band 0.86 1.22]
-        [--bend-modulus 1e4]
+        [--lengthwise 0 0.1] [--bend-modulus 1e4]
 
-Prints, per grid, the largest relative difference of the girth lines' mean, max and min pressure
-and tension, the normal force on the body, and the unstable modes of each path.
+Prints one markdown row per grid, band and lengthwise reduction: the largest relative
+difference of the girth lines' band values (mean, probe max and min, tension) and of the normal
+force, each path's relax time (s) and factorisations, and the unstable modes of each path
+(docs/validation.md, "Path agreement").
 """
 
 from __future__ import annotations
@@ -30,9 +32,20 @@ PATHS = {
 
 
 def result(
-    grid: tuple[int, int], band: tuple[float, float], solver: dict, bend_modulus: float
+    grid: tuple[int, int],
+    band: tuple[float, float],
+    solver: dict,
+    bend_modulus: float,
+    lengthwise: float = 0.0,
 ) -> xr.Dataset:
-    garment = {"bottom": band[0], "top": band[1], "reduction": 0.20, "grid": list(grid)}
+    garment = {
+        "bottom": band[0],
+        "top": band[1],
+        "reduction": 0.20,
+        "grid": list(grid),
+        "lengthwise_reduction": lengthwise,
+        "error_estimate": False,
+    }
     if bend_modulus > 0:
         garment["bend_modulus"] = bend_modulus
     case = {
@@ -52,28 +65,42 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--grids", nargs="+", default=["96x48"])
     parser.add_argument("--band", nargs=2, type=float, default=[0.86, 1.22])
+    parser.add_argument("--lengthwise", nargs="+", type=float, default=[0.0])
     parser.add_argument("--bend-modulus", type=float, default=0.0, help="garment.bend_modulus")
     args = parser.parse_args()
     logging.basicConfig(level=logging.WARNING)
-    print("| grid | band (m) | quantity | largest relative difference | where |")
-    print("|---|---|---|---|---|")
+    band = f"{args.band[0]}-{args.band[1]}"
+    print(
+        "| grid | band (m) | lengthwise | largest difference of a band value (which) | "
+        "normal force | plain: relax s, factorisations | fast: relax s, factorisations | "
+        "unstable modes (plain, fast) |"
+    )
+    print("|---|---|---|---|---|---|---|---|")
     for grid in args.grids:
         n, m = (int(v) for v in grid.split("x"))
-        plain, fast = (
-            result((n, m), tuple(args.band), s, args.bend_modulus) for s in PATHS.values()
-        )
-        for name in QUANTITIES:
-            a, b = plain[name].values, fast[name].values
-            rel = np.abs(b - a) / np.maximum(np.abs(a), 1e-12)
-            k = int(np.argmax(rel))
-            where = str(plain["landmark"].values[k])
-            print(f"| {grid} | {args.band[0]}-{args.band[1]} | {name} | {rel[k]:.2e} | {where} |")
-        a, b = float(plain["normal_force"]), float(fast["normal_force"])
-        print(f"| {grid} | {args.band[0]}-{args.band[1]} | normal_force | "
-              f"{abs(b - a) / abs(a):.2e} | |")  # fmt: skip
-        modes = (plain.attrs.get("unstable_modes"), fast.attrs.get("unstable_modes"))
-        print(f"| {grid} | {args.band[0]}-{args.band[1]} | unstable modes (plain, fast) | "
-              f"{modes[0]}, {modes[1]} | |", flush=True)  # fmt: skip
+        for lengthwise in args.lengthwise:
+            plain, fast = (
+                result((n, m), tuple(args.band), s, args.bend_modulus, lengthwise)
+                for s in PATHS.values()
+            )
+            worst, which = 0.0, ""
+            for name in QUANTITIES:
+                a, b = plain[name].values, fast[name].values
+                rel = np.abs(b - a) / np.maximum(np.abs(a), 1e-12)
+                k = int(np.argmax(rel))
+                if rel[k] >= worst:
+                    worst, which = float(rel[k]), f"{name}, {plain['landmark'].values[k]}"
+            a, b = float(plain["normal_force"]), float(fast["normal_force"])
+            cost = [
+                f"{float(ds.attrs['solver_seconds']):.1f}, {ds.attrs['solver_factorisations']}"
+                for ds in (plain, fast)
+            ]
+            modes = (plain.attrs.get("unstable_modes"), fast.attrs.get("unstable_modes"))
+            print(
+                f"| {grid} | {band} | {lengthwise:g} | {worst:.1e} ({which}) | "
+                f"{abs(b - a) / abs(a):.1e} | {cost[0]} | {cost[1]} | {modes[0]}, {modes[1]} |",
+                flush=True,
+            )
 
 
 if __name__ == "__main__":
