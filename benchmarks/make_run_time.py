@@ -1,7 +1,9 @@
 """`make run`'s wall time at two revisions, side by side in one run on this machine: each revision
 cloned to a temporary folder and its default pipeline (``snakemake --cores 2`` on
 config/config.yaml, the work of ``make run`` with the install excluded: both use this checkout's
-.venv) run ``--repeat`` times, alternating; prints the median of each and their ratio.
+.venv) run ``--repeat`` times, alternating; prints the median of each and their ratio, and what
+each run's numbers say of their accuracy (`accuracy`): the largest stated error of a girth-line
+mean over every case (% of its value), the lines without one, and the widest design interval.
 
     .venv/bin/python benchmarks/make_run_time.py BEFORE AFTER [--repeat 1] [--config PATH]
 
@@ -12,6 +14,8 @@ outputs stay in its clone until the script ends.
 from __future__ import annotations
 
 import argparse
+import csv
+import math
 import os
 import statistics
 import subprocess
@@ -45,6 +49,34 @@ def run(folder: Path, config: str) -> float:
     return time.perf_counter() - start
 
 
+def accuracy(folder: Path) -> str:
+    """The largest stated error of a girth-line mean over every case's summary.csv (%, with the
+    case and line), how many lines have none, and the widest design interval (+- reduction,
+    design.csv and the profile designs' confirmations)."""
+    worst, where, missing, lines = 0.0, "", [], 0
+    for summary in sorted((folder / "results" / "cases").glob("*/summary.csv")):
+        with summary.open(newline="") as handle:
+            for row in csv.DictReader(handle):
+                lines += 1
+                error = float(row.get("pressure_mean_error_percent") or "nan")
+                if not math.isfinite(error):
+                    missing.append(f"{summary.parent.name}:{row['landmark']}")
+                elif error > worst:
+                    worst, where = error, f"{summary.parent.name}:{row['landmark']}"
+    interval = 0.0
+    design = folder / "results" / "design.csv"
+    if design.is_file():
+        with design.open(newline="") as handle:
+            for row in csv.DictReader(handle):
+                value = float(row.get("reduction_error") or "nan")
+                interval = max(interval, value) if math.isfinite(value) else math.inf
+    return (
+        f"{lines} girth lines: largest stated error {worst:.2f} % ({where}); "
+        f"{len(missing)} without one{': ' + ', '.join(missing[:6]) if missing else ''}; "
+        f"widest design interval +- {interval:.4f}"
+    )
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("revisions", nargs=2)
@@ -57,7 +89,7 @@ def main() -> None:
         for _ in range(args.repeat):
             for revision, folder in zip(args.revisions, folders, strict=True):
                 times[revision].append(run(folder, args.config))
-                print(f"{revision}: {times[revision][-1]:.1f} s", flush=True)
+                print(f"{revision}: {times[revision][-1]:.1f} s; {accuracy(folder)}", flush=True)
     before, after = (statistics.median(times[r]) for r in args.revisions)
     print(f"\n| revision | median wall time [s] (of {args.repeat}) |\n|---|---|")
     for revision in args.revisions:

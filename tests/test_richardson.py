@@ -29,8 +29,13 @@ def test_a_power_law_gives_its_order_and_its_limit(order):
     assert estimate.extrapolated == pytest.approx(10.0, abs=1e-12)
     assert estimate.error == pytest.approx(10.0 - f[0], abs=1e-12)
     safety = 1.25 if order == 2.0 else 3.0  # the scheme's order confirmed, or not
-    assert estimate.uncertainty == pytest.approx(safety * abs(10.0 - f[0]), rel=1e-12)
-    assert estimate.relative_error == pytest.approx(safety * abs(10.0 - f[0]) / f[0])
+    # never below the last change f1 - f2 (order 2: 1.25 x a third of it would be less)
+    stated = max(safety * abs(10.0 - f[0]), abs(f[0] - f[1]))
+    assert estimate.uncertainty == pytest.approx(stated, rel=1e-12)
+    assert estimate.relative_error == pytest.approx(stated / f[0])
+    assert estimate.uncertainty == pytest.approx(
+        {1.0: 3 * 0.75, 2.0: 9 / 16, 3.0: 21 / 64}[order], rel=1e-12
+    )
 
 
 @pytest.mark.parametrize("order", [0.8, 1.5, 2.0, 3.5])
