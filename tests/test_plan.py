@@ -29,13 +29,20 @@ CONFIG = yaml.safe_load((ROOT / "config/config.yaml").read_text())
 def test_the_default_sweep_expands_to_every_material_body_and_reduction():
     plan = make_plan(CONFIG, ROOT)
     sweep = CONFIG["sweep"]
-    count = len(sweep["materials"]) * len(sweep["bodies"]) * len(sweep["reductions"])
-    assert len(plan.index) == len(plan.sweep) == len(plan.cases) == count == 8
+    count = (
+        len(sweep["materials"])
+        * len(sweep["bodies"])
+        * len(sweep["reductions"])
+        * len(sweep["lengthwise_reductions"])
+    )
+    assert len(plan.index) == len(plan.sweep) == len(plan.cases) == count == 16
     assert "powernet__torso_M__r150" in plan.cases
     case = plan.cases["powernet__torso_S__r250"]
     assert case.garment.reduction == 0.25 and case.body.params["size"] == "S"
     assert case.material == "results/materials/powernet.nc"
-    assert [e["reduction"] for e in plan.index[:4]] == sweep["reductions"]
+    plain = [e for e in plan.index if e["lengthwise_reduction"] == 0.0]
+    assert [e["reduction"] for e in plain[:4]] == sweep["reductions"]
+    assert plan.cases["powernet__torso_S__r250__lw100"].garment.lengthwise_reduction == 0.1
 
 
 def test_names_of_sweep_cases():
@@ -121,7 +128,7 @@ def test_a_non_finite_config_number_is_refused_but_a_rigid_tissue_modulus_is_not
     config = copy.deepcopy(CONFIG)
     config["sweep"] |= {"tissue_moduli": [float("inf"), 2e4], "tissue_thickness": 0.01}
     plan = make_plan(config, ROOT)  # .inf: a rigid body (the schema says so)
-    assert sum(case.body.tissue is None for case in plan.cases.values()) == 8
+    assert sum(case.body.tissue is None for case in plan.cases.values()) == 16
 
 
 @pytest.mark.parametrize(

@@ -27,12 +27,13 @@ def test_a_sweep_over_variants_names_and_builds_every_case():
     config["sweep"].update(tissue_moduli=[None, 20000], tissue_thickness=0.015,
                            frictions=[0.0, 0.4], worn=[False, True])  # fmt: skip
     plan = make_plan(config, ROOT)
-    assert len(plan.index) == 8 * 2 * 2 * 2
+    assert len(plan.index) == 16 * 2 * 2 * 2  # the default sweeps two lengthwise reductions
     assert "powernet__torso_M__r150" in plan.cases  # the default variant keeps its name
-    name = "powernet__torso_M__r150__tissue20000__mu040__worn"
+    name = "powernet__torso_M__r150__tissue20000__mu040__worn__lw100"
     case = plan.cases[name]
     assert case.body.tissue == Tissue(thickness=0.015, modulus=20000.0)
     assert case.contact.friction == 0.4 and case.garment.worn is True
+    assert case.garment.lengthwise_reduction == 0.1
     entry = next(e for e in plan.index if e["case"] == name)
     assert entry["tissue_modulus"] == 20000 and entry["friction"] == 0.4 and entry["worn"] == 1
     rigid = next(e for e in plan.index if e["case"] == "powernet__torso_M__r150")
