@@ -53,12 +53,13 @@ def accuracy(folder: Path) -> str:
     """The largest stated error of a girth-line mean over every case's summary.csv (%, with the
     case and line), how many lines have none, and the widest design interval (+- reduction,
     design.csv and the profile designs' confirmations)."""
-    worst, where, missing, lines = 0.0, "", [], 0
+    worst, where, missing, lines, errors = 0.0, "", [], 0, []
     for summary in sorted((folder / "results" / "cases").glob("*/summary.csv")):
         with summary.open(newline="") as handle:
             for row in csv.DictReader(handle):
                 lines += 1
                 error = float(row.get("pressure_mean_error_percent") or "nan")
+                errors.append(error)
                 if not math.isfinite(error):
                     missing.append(f"{summary.parent.name}:{row['landmark']}")
                 elif error > worst:
@@ -67,11 +68,14 @@ def accuracy(folder: Path) -> str:
     design = folder / "results" / "design.csv"
     if design.is_file():
         with design.open(newline="") as handle:
-            for row in csv.DictReader(handle):
+            for row in csv.DictReader(handle):  # a target out of the sweep's range: no answer
                 value = float(row.get("reduction_error") or "nan")
-                interval = max(interval, value) if math.isfinite(value) else math.inf
+                if row.get("status") == "ok":
+                    interval = max(interval, value) if math.isfinite(value) else math.inf
+    over = sum(1 for e in errors if e > 1.0)
     return (
-        f"{lines} girth lines: largest stated error {worst:.2f} % ({where}); "
+        f"{lines} girth lines, {over} with a stated error over 1 %: "
+        f"largest {worst:.2f} % ({where}); "
         f"{len(missing)} without one{': ' + ', '.join(missing[:6]) if missing else ''}; "
         f"widest design interval +- {interval:.4f}"
     )
