@@ -39,7 +39,7 @@ def stocking(tmp_path_factory) -> Path:
 
 
 def test_the_stocking_summary_judges_the_class_at_b_and_the_graduation(stocking):
-    case = stocking / "cases" / "powernet__leg_M__r200"
+    case = stocking / "cases" / "powernet__leg_M__r200__lw150"  # its one lengthwise value
     result = xr.load_dataset(case / "result.nc")
     assert int(result.attrs["converged"]) == 1 and float(result["residual"].values[-1]) <= 1e-8
     rows = {row["landmark"]: row for row in _rows(case / "summary.csv")}
