@@ -105,28 +105,28 @@ def test_tiny_pipeline_end_to_end(tiny_run):
             "body": 1,
             "reduction": 2,
             "worn": 2,
-            "lengthwise_reduction": 2,
+            "lengthwise_reduction": 1,
             "landmark": 2,
         }
-        for lengthwise in (0.0, 0.1):
+        for lengthwise in (0.0,):
             at = sweep["pressure_mean"].sel(landmark="waist", lengthwise_reduction=lengthwise)
             waist = at.sel(worn=0).values.ravel()
             assert waist[1] > waist[0] > 0  # a tighter pattern presses harder
             assert np.all(at.sel(worn=1).values.ravel() < waist)  # the set costs compression
     rows = (where / "results/sweep.csv").read_text().splitlines()
-    # one row per new case (reductions x lengthwise reductions) and line, the worn beside it
-    assert len(rows) == 1 + 2 * 2 * 2 and "pressure_mean_mmHg_worn" in rows[0]
+    # one row per new case (reductions x one lengthwise reduction) and line, the worn beside it
+    assert len(rows) == 1 + 2 * 2 and "pressure_mean_mmHg_worn" in rows[0]
     confirmed = (where / "results/design_confirmed.csv").read_text().splitlines()
-    assert len(confirmed) == 5  # new and worn, at each lengthwise reduction
+    assert len(confirmed) == 3  # the new and the worn garment's answers
     header = confirmed[0].split(",")
     records = [dict(zip(header, row.split(","), strict=True)) for row in confirmed[1:]]
     assert {record["worn"] for record in records} == {"0", "1"}
-    assert {float(record["lengthwise_reduction"]) for record in records} == {0.0, 0.1}
+    assert {float(record["lengthwise_reduction"]) for record in records} == {0.0}
     for record in records:
         assert record["status"] == "ok" and 0.1 < float(record["reduction"]) < 0.2
         # two swept reductions, linear interpolation of a convex curve: within 5 % of the target
         assert abs(float(record["error_percent"])) < 5
-    for lengthwise in ("0.0", "0.1"):
+    for lengthwise in ("0.0",):
         worn, new = sorted(
             (r for r in records if f"{float(r['lengthwise_reduction']):.1f}" == lengthwise),
             key=lambda r: r["worn"],
