@@ -129,6 +129,12 @@ def along(values: NDArray[np.float64], line: tuple[int, int, float]) -> NDArray[
     return (1.0 - t) * values[below] + t * values[above]
 
 
+def contact_force(fields: NodeFields) -> NDArray[np.float64]:
+    """(N,) N: each node's contact force f_i = p_i a_i, 0 off the body (what a band and a
+    probe sum, `cloth.results.bands`)."""
+    return np.where(fields.on_body.astype(bool), fields.pressure, 0.0) * fields.area
+
+
 def landmarks(
     heights: dict[str, float],
     x: NDArray[np.float64],
@@ -141,9 +147,8 @@ def landmarks(
     half a row spacing past its edge rows) has none."""
     reading = reading or Reading()
     rows_z = x.reshape(grid.m, grid.n, 3)[..., 2].mean(axis=1)
-    contact = fields.on_body.astype(bool)
-    pressure = np.where(contact, fields.pressure, 0.0)
-    force = pressure * fields.area
+    pressure = np.where(fields.on_body.astype(bool), fields.pressure, 0.0)
+    force = contact_force(fields)
     tension = np.nan_to_num(fields.tension_weft)
     angles = around(reading)
     out = []
@@ -178,7 +183,7 @@ def sensor_readings(
 ) -> NDArray[np.float64]:
     """(S,) Pa: what each of the case's sensors (`cloth.case.reading.Sensor`) reads
     (`cloth.results.bands.probe_readings`); NaN where its footprint holds no garment."""
-    force = np.where(fields.on_body.astype(bool), fields.pressure, 0.0) * fields.area
+    force = contact_force(fields)
     return np.array(
         [
             probe_readings(
