@@ -120,8 +120,11 @@ def test_bands_the_case_defines_judge_every_line(tmp_path, kpa, expected):
     assert float(row["pressure_mean_kPa"]) == pytest.approx(kpa, rel=1e-5)
 
 
-def _run(tmp_path: Path, body: dict, garment: dict, landmarks: dict) -> Path:
+def _run(
+    tmp_path: Path, body: dict, garment: dict, landmarks: dict, extra: dict | None = None
+) -> Path:
     case = {"material": "powernet", "body": body, "garment": garment, "landmarks": landmarks}
+    case.update(extra or {})
     path = tmp_path / "case.yaml"
     path.write_text(yaml.safe_dump(case))
     run_case(path, tmp_path / "out", {}, ROOT, stop_after="aggregate")
@@ -154,6 +157,12 @@ def test_girth_line_pressures_on_an_ellipse_are_laplace_along_its_curvature(tmp_
         {"elliptic_cylinder": {"a": a, "b": b, "bottom": 0.0, "top": 0.5}},
         {"bottom": 0.1, "top": 0.4, "reduction": reduction, "grid": [192, 7]},
         {"line": 0.25},
+        {
+            "sensors": [
+                {"name": "end", "height": 0.25, "angle": 0},
+                {"name": "side", "height": 0.25, "angle": 90},
+            ]
+        },
     )
     fabric = load_fabric("powernet", ROOT)
     strain = 1.0 / (1.0 - reduction) - 1.0
@@ -180,6 +189,11 @@ def test_girth_line_pressures_on_an_ellipse_are_laplace_along_its_curvature(tmp_
             ds["pressure_mmHg"].attrs["units"] == "mmHg" and ds["pressure"].attrs["units"] == "Pa"
         )
         assert ds["tension_mean"].attrs["units"] == "N m-1"
+        # sensors placed where the line's probe reads its max (angle 0) and min (90 degrees)
+        sensed = dict(zip(ds["sensor"].values.tolist(), ds["sensor_pressure"].values, strict=True))
+        assert sensed["end"] == pytest.approx(float(row["pressure_max_Pa"]), rel=1e-5)
+        assert sensed["side"] == pytest.approx(float(row["pressure_min_Pa"]), rel=1e-5)
+        assert ds["sensor_pressure"].attrs["units"] == "Pa"
 
 
 def test_row_diagnostics_are_the_rows_interpolated_to_its_height_by_hand(tmp_path):
