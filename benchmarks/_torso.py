@@ -21,8 +21,13 @@ def torso_case(grid: str):
     case = {
         "material": "powernet",
         "body": {"torso": {"size": "M"}},
-        "garment": {"bottom": 0.80, "top": 1.25, "reduction": 0.15, "grid": [n, m],
-                    "edges": "sliding"},
-    }  # fmt: skip
+        "garment": {
+            "bottom": 0.80,
+            "top": 1.25,
+            "reduction": 0.15,
+            "grid": [n, m],
+            "edges": "sliding",
+        },
+    }
     state = initial_state(case)
     return n, m, state, body_from_config(state.case.body.block)[0]

@@ -64,8 +64,14 @@ def lbfgsb(state, body, seconds: float, penalty: float):
         return value, gradient.ravel()
 
     try:
-        minimize(objective, x0.ravel(), jac=True, method="L-BFGS-B", bounds=bounds,
-                 options={"maxiter": 10**7, "maxfun": 10**7, "ftol": 0.0, "gtol": 0.0})  # fmt: skip
+        minimize(
+            objective,
+            x0.ravel(),
+            jac=True,
+            method="L-BFGS-B",
+            bounds=bounds,
+            options={"maxiter": 10**7, "maxfun": 10**7, "ftol": 0.0, "gtol": 0.0},
+        )
     except Budget:
         pass
     return best[0].reshape(-1, 3), calls[0]
@@ -81,28 +87,52 @@ def main() -> None:
     for grid in args.grids:
         n, m, state, body = torso_case(grid)
         problem = Problem.of(state, body)
-        base = Settings(tolerance=TARGET, max_iterations=150, progress=False, log_every=0,
-                        linear_solver="superlu")  # fmt: skip
+        base = Settings(
+            tolerance=TARGET,
+            max_iterations=150,
+            progress=False,
+            log_every=0,
+            linear_solver="superlu",
+        )
         newton = relax(state, body, base)
         budget = newton.seconds
         # the explicit iteration: as many steps as the budget holds (one step's cost measured)
-        probe = relax(state, body, Settings(method="explicit", max_iterations=5, progress=False,
-                                            log_every=0, tolerance=1e-14))  # fmt: skip
+        probe = relax(
+            state,
+            body,
+            Settings(
+                method="explicit", max_iterations=5, progress=False, log_every=0, tolerance=1e-14
+            ),
+        )
         steps = max(1, int(budget / (probe.seconds / 5)))
-        paper = Settings(method="explicit", max_iterations=steps, progress=False, log_every=0,
-                         tolerance=1e-8)  # fmt: skip
+        paper = Settings(
+            method="explicit", max_iterations=steps, progress=False, log_every=0, tolerance=1e-8
+        )
         explicit = relax(state, body, paper)
         x, calls = lbfgsb(state, body, budget, args.penalty)
         quasi = problem.evaluate(problem.project_out(x)).residual
         reference = newton.history.residual[-1]
         for name, residual, seconds, work in (
             ("newton (superlu)", reference, newton.seconds, f"{newton.iterations} iterations"),
-            ("explicit (the paper)", explicit.history.residual[-1], explicit.seconds,
-             f"{explicit.iterations} iterations"),
+            (
+                "explicit (the paper)",
+                explicit.history.residual[-1],
+                explicit.seconds,
+                f"{explicit.iterations} iterations",
+            ),
             ("L-BFGS-B + penalty", quasi, budget, f"{calls} evaluations"),
-        ):  # fmt: skip
-            rows.append([grid, f"{n * m:,}", name, work, f"{seconds:.1f}", f"{residual:.1e}",
-                         f"{residual / TARGET:.1e}"])  # fmt: skip
+        ):
+            rows.append(
+                [
+                    grid,
+                    f"{n * m:,}",
+                    name,
+                    work,
+                    f"{seconds:.1f}",
+                    f"{residual:.1e}",
+                    f"{residual / TARGET:.1e}",
+                ]
+            )
             print(rows[-1], flush=True)
     table = markdown_table(
         ["grid", "nodes", "method", "work", "time [s]", "residual reached", "/ 1e-8"], rows

@@ -38,17 +38,27 @@ def main() -> None:
     parser.add_argument("--repeat", type=int, default=1)
     parser.add_argument("--tolerance", type=float, default=1e-8)
     parser.add_argument("--no-write", action="store_true", help="print, leave the docs alone")
-    parser.add_argument("--variants", nargs="+", default=["plain", "continuation"],
-                        choices=list(VARIANTS))  # fmt: skip
+    parser.add_argument(
+        "--variants", nargs="+", default=["plain", "continuation"], choices=list(VARIANTS)
+    )
     parser.add_argument("--section", default="continuation")
-    parser.add_argument("--without-plain", action="store_true",
-                        help="leave plain Newton out (no ratio or gap columns)")  # fmt: skip
+    parser.add_argument(
+        "--without-plain",
+        action="store_true",
+        help="leave plain Newton out (no ratio or gap columns)",
+    )
     args = parser.parse_args()
     rows = []
     for grid in args.grids:
         n, m, state, body = torso_case(grid)
-        plain = Settings(tolerance=args.tolerance, max_iterations=100, progress=False, log_every=0,
-                         linear_solver=args.solver, coarsest=args.coarsest)  # fmt: skip
+        plain = Settings(
+            tolerance=args.tolerance,
+            max_iterations=100,
+            progress=False,
+            log_every=0,
+            linear_solver=args.solver,
+            coarsest=args.coarsest,
+        )
         variants = [] if args.without_plain else ["plain"]
         variants += [v for v in args.variants if v != "plain"]
         times: dict[str, list[float]] = {v: [] for v in variants}
@@ -65,18 +75,38 @@ def main() -> None:
             result = last[variant]
             seconds = statistics.median(times[variant])
             gap = float(np.abs(result.final.x - last["plain"].final.x).max()) if base else None
-            rows.append([
-                grid, f"{n * m:,}", variant, result.linear_solver, str(result.iterations),
-                str(result.factorisations), f"{result.final.residual:.1e}", f"{seconds:.1f}",
-                f"{seconds / base:.2f}" if base else "", f"{result.peak_memory / 2**20:.0f}",
-                f"{gap:.1e}" if gap is not None and variant != "plain" else "",
-            ])  # fmt: skip
+            rows.append(
+                [
+                    grid,
+                    f"{n * m:,}",
+                    variant,
+                    result.linear_solver,
+                    str(result.iterations),
+                    str(result.factorisations),
+                    f"{result.final.residual:.1e}",
+                    f"{seconds:.1f}",
+                    f"{seconds / base:.2f}" if base else "",
+                    f"{result.peak_memory / 2**20:.0f}",
+                    f"{gap:.1e}" if gap is not None and variant != "plain" else "",
+                ]
+            )
             print(rows[-1], flush=True)
     table = markdown_table(
-        ["grid", "nodes", "variant", "solver", "fine iterations", "factorisations", "residual",
-         "time [s]", "time / plain", "peak memory [MiB]", "max gap to plain [m]"],
+        [
+            "grid",
+            "nodes",
+            "variant",
+            "solver",
+            "fine iterations",
+            "factorisations",
+            "residual",
+            "time [s]",
+            "time / plain",
+            "peak memory [MiB]",
+            "max gap to plain [m]",
+        ],
         rows,
-    )  # fmt: skip
+    )
     note = (
         f"{args.repeat} run(s) each, medians, on {platform.machine()}, 2 cores; coarsest level "
         f"at most {args.coarsest:,} nodes."

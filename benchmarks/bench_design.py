@@ -40,10 +40,17 @@ def run(grid: tuple[int, int], count: int) -> dict[str, float]:
     heights = np.linspace(0.90, 1.18, count) if count > 1 else np.array([1.04])
     lines = {f"l{k}": float(z) for k, z in enumerate(heights)}
     case = {
-        "material": "powernet", "body": {"torso": {"size": "M"}}, "landmarks": lines,
-        "garment": {"bottom": 0.86, "top": 1.22, "grid": list(grid), "reduction": 0.2,
-                    "error_estimate": False},
-    }  # fmt: skip
+        "material": "powernet",
+        "body": {"torso": {"size": "M"}},
+        "landmarks": lines,
+        "garment": {
+            "bottom": 0.86,
+            "top": 1.22,
+            "grid": list(grid),
+            "reduction": 0.2,
+            "error_estimate": False,
+        },
+    }
     state = initial_state(case, ROOT)
     body = body_from_record(state.body)
     targets = [Target(name, p * MMHG) for name, p in zip(lines, profile(heights), strict=True)]
@@ -75,8 +82,10 @@ def main() -> None:
     parser.add_argument("--lines", nargs="+", type=int, default=[1, 2, 4, 8])
     args = parser.parse_args()
     logging.basicConfig(level=logging.WARNING)
-    print("| grid | lines | design (s) | equilibria | Newton iterations | largest miss (mmHg) "
-          "| adjoint (s) | differences, 2K equilibria (s) | ratio |")  # fmt: skip
+    print(
+        "| grid | lines | design (s) | equilibria | Newton iterations | largest miss (mmHg) "
+        "| adjoint (s) | differences, 2K equilibria (s) | ratio |"
+    )
     print("|---|---|---|---|---|---|---|---|---|")
     for grid in args.grids:
         n, m = (int(v) for v in grid.split("x"))
@@ -85,8 +94,9 @@ def main() -> None:
             print(
                 f"| {grid} | {count} | {r['seconds']:.1f} | {r['solves']} | {r['newton']} | "
                 f"{r['miss']:.3f} | {r['adjoint']:.3f} | {r['differences']:.1f} | "
-                f"{r['differences'] / r['adjoint']:.0f} |", flush=True,
-            )  # fmt: skip
+                f"{r['differences'] / r['adjoint']:.0f} |",
+                flush=True,
+            )
 
 
 if __name__ == "__main__":

@@ -26,7 +26,7 @@ from _torso import torso_case
 from scipy.sparse.linalg import splu
 
 from cloth.solvers.activeset import held_nodes
-from cloth.solvers.linear import _factor
+from cloth.solvers.linear import lu_factor
 from cloth.solvers.newton import newton_matrix, stiffness_at
 from cloth.solvers.ordering import dof_permutation
 from cloth.solvers.problem import Problem
@@ -65,12 +65,16 @@ def main() -> None:
         times: dict[str, list[float]] = {"mmd": [], "nd": [], "mmd solve": [], "nd solve": []}
         fill = {}
         for _ in range(args.repeat):
-            mmd, seconds = timed(lambda: splu(
-                matrix, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
-                options={"SymmetricMode": True},
-            ))  # fmt: skip
+            mmd, seconds = timed(
+                lambda: splu(
+                    matrix,
+                    permc_spec="MMD_AT_PLUS_A",
+                    diag_pivot_thresh=0.0,
+                    options={"SymmetricMode": True},
+                )
+            )
             times["mmd"].append(seconds)
-            nd, seconds = timed(lambda: _factor(matrix, dissect=True))  # ordering kept
+            nd, seconds = timed(lambda: lu_factor(matrix, dissect=True))  # ordering kept
             times["nd"].append(seconds)
             for name, factor in (("mmd", mmd), ("nd", nd)):
                 x, seconds = timed(lambda: factor.solve(rhs))
@@ -80,18 +84,36 @@ def main() -> None:
             fill = {"mmd": mmd.L.nnz + mmd.U.nnz, "nd": nd.lu.L.nnz + nd.lu.U.nnz}
             del mmd, nd
         median = {key: statistics.median(value) for key, value in times.items()}
-        rows.append([
-            grid, f"{nodes:,}", f"{fill['mmd'] / 1e6:.1f}", f"{fill['nd'] / 1e6:.1f}",
-            f"{median['mmd']:.2f}", f"{median['nd']:.2f}", f"{median['nd'] / median['mmd']:.2f}",
-            f"{ordering:.2f}", f"{median['mmd solve']:.3f}", f"{median['nd solve']:.3f}",
-        ])  # fmt: skip
+        rows.append(
+            [
+                grid,
+                f"{nodes:,}",
+                f"{fill['mmd'] / 1e6:.1f}",
+                f"{fill['nd'] / 1e6:.1f}",
+                f"{median['mmd']:.2f}",
+                f"{median['nd']:.2f}",
+                f"{median['nd'] / median['mmd']:.2f}",
+                f"{ordering:.2f}",
+                f"{median['mmd solve']:.3f}",
+                f"{median['nd solve']:.3f}",
+            ]
+        )
         print(rows[-1], flush=True)
     table = markdown_table(
-        ["grid", "nodes", "L+U MMD [1e6]", "L+U ND [1e6]", "factorise MMD [s]",
-         "factorise ND [s]", "ND / MMD", "ND ordering, once [s]", "solve MMD [s]",
-         "solve ND [s]"],
+        [
+            "grid",
+            "nodes",
+            "L+U MMD [1e6]",
+            "L+U ND [1e6]",
+            "factorise MMD [s]",
+            "factorise ND [s]",
+            "ND / MMD",
+            "ND ordering, once [s]",
+            "solve MMD [s]",
+            "solve ND [s]",
+        ],
         rows,
-    )  # fmt: skip
+    )
     note = f"\nMedians of {args.repeat} runs each, alternating; Newton's first matrix on the torso."
     print(table + note)
     if not args.no_write:

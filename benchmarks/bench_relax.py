@@ -38,9 +38,14 @@ def run(case: dict, method: str, solver: str, iterations: int):
     state = initial_state(case)
     body, _ = body_from_config(state.case.body.block)
     settings = Settings(
-        method=method, tolerance=1e-8, max_iterations=iterations, linear_solver=solver,
-        progress=False, log_every=0, warm_start=100,
-    )  # fmt: skip
+        method=method,
+        tolerance=1e-8,
+        max_iterations=iterations,
+        linear_solver=solver,
+        progress=False,
+        log_every=0,
+        warm_start=100,
+    )
     return relax(state, body, settings)
 
 
@@ -54,26 +59,41 @@ def main() -> None:
     parser.add_argument("--newton-iterations", type=int, default=300)
     parser.add_argument("--solvers", nargs="*", help="linear solvers (default: all installed)")
     parser.add_argument(
-        "--surfaces", nargs="*", default=["smooth"], choices=["smooth", "mesh"],
+        "--surfaces",
+        nargs="*",
+        default=["smooth"],
+        choices=["smooth", "mesh"],
         help="torso contact surfaces (default: smooth; the mesh is slow on fine grids)",
-    )  # fmt: skip
+    )
     args = parser.parse_args()
     names = args.solvers or ("superlu", "cholmod", "pardiso", "amg")
     solvers = [s for s in names if available(s)]
     rows = []
     cases = [
-        (f"ellipse {size}", size, {"elliptic_cylinder": {"a": 0.15, "b": 0.10, "top": 0.5}},
-         (0.1, 0.4, 0.2))
+        (
+            f"ellipse {size}",
+            size,
+            {"elliptic_cylinder": {"a": 0.15, "b": 0.10, "top": 0.5}},
+            (0.1, 0.4, 0.2),
+        )
         for size in args.sizes
-    ] + [(f"torso M {size} {surface}", size, {"torso": {"size": "M", "surface": surface}},
-          (0.86, 1.22, 0.15))
-         for size in args.torso for surface in args.surfaces]  # fmt: skip
+    ] + [
+        (
+            f"torso M {size} {surface}",
+            size,
+            {"torso": {"size": "M", "surface": surface}},
+            (0.86, 1.22, 0.15),
+        )
+        for size in args.torso
+        for surface in args.surfaces
+    ]
     for label, size, body, (bottom, top, reduction) in cases:
         n, m = (int(v) for v in size.split("x"))
         case = {
-            "material": "powernet", "body": body,
+            "material": "powernet",
+            "body": body,
             "garment": {"bottom": bottom, "top": top, "reduction": reduction, "grid": [n, m]},
-        }  # fmt: skip
+        }
         newton = {s: run(case, "newton", s, args.newton_iterations) for s in solvers}
         # a backend that fell back to superlu for some steps is still reported under its name
         warm = run(case, "explicit+newton", "superlu", args.newton_iterations)
@@ -83,12 +103,36 @@ def main() -> None:
         per_step = probe.seconds / max(probe.iterations, 1)
         explicit = run(case, "explicit", "superlu", max(5, int(args.budget / per_step)))
         for name, result in newton.items():
-            rows.append([label, f"{n * m:,}", f"newton/{name}", str(result.iterations),
-                         seconds_to(result, 1e-6), seconds_to(result, 1e-8)])  # fmt: skip
-        rows.append([label, f"{n * m:,}", "explicit+newton/superlu", str(warm.iterations),
-                     seconds_to(warm, 1e-6), seconds_to(warm, 1e-8)])  # fmt: skip
-        rows.append([label, f"{n * m:,}", "explicit", str(explicit.iterations),
-                     seconds_to(explicit, 1e-6), seconds_to(explicit, 1e-8)])  # fmt: skip
+            rows.append(
+                [
+                    label,
+                    f"{n * m:,}",
+                    f"newton/{name}",
+                    str(result.iterations),
+                    seconds_to(result, 1e-6),
+                    seconds_to(result, 1e-8),
+                ]
+            )
+        rows.append(
+            [
+                label,
+                f"{n * m:,}",
+                "explicit+newton/superlu",
+                str(warm.iterations),
+                seconds_to(warm, 1e-6),
+                seconds_to(warm, 1e-8),
+            ]
+        )
+        rows.append(
+            [
+                label,
+                f"{n * m:,}",
+                "explicit",
+                str(explicit.iterations),
+                seconds_to(explicit, 1e-6),
+                seconds_to(explicit, 1e-8),
+            ]
+        )
         reached = explicit.history.residual[-1] <= 1e-6
         if reached:
             ratio = f"{explicit.seconds / fastest.seconds:.0f}x"

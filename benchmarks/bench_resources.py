@@ -33,8 +33,14 @@ def main() -> None:
         folder = Path(tmp)
         material = folder / "powernet.nc"
         root = Path(__file__).resolve().parents[1]
-        measure_stage(sys.executable, "material", "ingest",
-                      str(root / "data/materials/powernet.csv"), "-o", str(material))  # fmt: skip
+        measure_stage(
+            sys.executable,
+            "material",
+            "ingest",
+            str(root / "data/materials/powernet.csv"),
+            "-o",
+            str(material),
+        )
         for grid in args.grids:
             n, m = (int(v) for v in grid.split("x"))
             case = {
@@ -54,8 +60,17 @@ def main() -> None:
             for stage, command in stages.items():
                 seconds, peak = measure_stage(sys.executable, *command)
                 estimate = stage_resources(stage, case)
-                rows.append([stage, grid, f"{n * m:,}", f"{seconds:.1f}", f"{peak:.0f}",
-                             f"{estimate.mem_mb}", f"{estimate.runtime}"])  # fmt: skip
+                rows.append(
+                    [
+                        stage,
+                        grid,
+                        f"{n * m:,}",
+                        f"{seconds:.1f}",
+                        f"{peak:.0f}",
+                        f"{estimate.mem_mb}",
+                        f"{estimate.runtime}",
+                    ]
+                )
                 print(rows[-1], flush=True)
                 if stage == "relax":
                     nodes.append(n * m)
@@ -64,10 +79,17 @@ def main() -> None:
         slope, base = np.polyfit(nodes, memory, 1)
         print(f"relax peak memory ~ {base:.0f} MiB + {slope * 1e3:.2f} MiB per 1000 nodes")
     table = markdown_table(
-        ["stage", "grid", "nodes", "wall [s]", "peak memory [MiB]", "asks mem_mb",
-         "asks runtime [min]"],
+        [
+            "stage",
+            "grid",
+            "nodes",
+            "wall [s]",
+            "peak memory [MiB]",
+            "asks mem_mb",
+            "asks runtime [min]",
+        ],
         rows,
-    )  # fmt: skip
+    )
     replace_section("resources", table)
 
 

@@ -36,10 +36,11 @@ def main() -> None:
     )
     parser.add_argument("--skip", nargs="*", default=["plain:640x320"])
     parser.add_argument("--tolerance", type=float, default=1e-8)
-    parser.add_argument("--solver", default="superlu",
-                        help="linear solver (auto: pardiso where it is installed)")  # fmt: skip
+    parser.add_argument(
+        "--solver", default="superlu", help="linear solver (auto: pardiso where it is installed)"
+    )
     parser.add_argument("--no-write", action="store_true", help="print, leave the docs alone")
-    args = parser.parse_args()  # fmt: skip
+    args = parser.parse_args()
     rows, points = [], {v: [] for v in args.variants}
     for grid in args.grids:
         n, m, state, body = torso_case(grid)
@@ -47,17 +48,31 @@ def main() -> None:
             if f"{variant}:{grid}" in args.skip:
                 continue
             continued, reuse = VARIANTS[variant]
-            settings = Settings(tolerance=args.tolerance, max_iterations=100, progress=False,
-                                log_every=0, continuation=continued, reuse=reuse,
-                                linear_solver=args.solver)  # fmt: skip
+            settings = Settings(
+                tolerance=args.tolerance,
+                max_iterations=100,
+                progress=False,
+                log_every=0,
+                continuation=continued,
+                reuse=reuse,
+                linear_solver=args.solver,
+            )
             reset_peak_memory()
             result = relax(state, body, settings)
             points[variant].append((n * m, result.seconds))
-            rows.append([
-                grid, f"{n * m:,}", variant, result.linear_solver, str(result.iterations),
-                str(result.factorisations), f"{result.final.residual:.1e}",
-                f"{result.seconds:.1f}", f"{result.peak_memory / 2**20:.0f}",
-            ])  # fmt: skip
+            rows.append(
+                [
+                    grid,
+                    f"{n * m:,}",
+                    variant,
+                    result.linear_solver,
+                    str(result.iterations),
+                    str(result.factorisations),
+                    f"{result.final.residual:.1e}",
+                    f"{result.seconds:.1f}",
+                    f"{result.peak_memory / 2**20:.0f}",
+                ]
+            )
             print(rows[-1], flush=True)
     slopes = []
     for variant, data in points.items():
@@ -68,10 +83,19 @@ def main() -> None:
             slopes.append(f"{variant}: time ~ nodes^{slope:.2f} ({span})")
             print(slopes[-1])
     table = markdown_table(
-        ["grid", "nodes", "variant", "solver", "fine iterations", "factorisations", "residual",
-         "time [s]", "peak memory [MiB]"],
+        [
+            "grid",
+            "nodes",
+            "variant",
+            "solver",
+            "fine iterations",
+            "factorisations",
+            "residual",
+            "time [s]",
+            "peak memory [MiB]",
+        ],
         rows,
-    )  # fmt: skip
+    )
     note = (
         f"One run each on {platform.machine()}, 2 cores, tolerance {args.tolerance:.0e}. "
         f"Measured exponents: {'; '.join(slopes)}."

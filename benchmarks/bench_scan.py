@@ -38,8 +38,9 @@ def main() -> None:
     parser.add_argument("--grids", nargs="*", default=["96x48", "384x192"])
     parser.add_argument("--mesh-iterations", type=int, default=40)
     parser.add_argument("--no-write", action="store_true")
-    parser.add_argument("--surfaces", nargs="+", default=["smooth", "mesh"],
-                        choices=["smooth", "mesh"])  # fmt: skip
+    parser.add_argument(
+        "--surfaces", nargs="+", default=["smooth", "mesh"], choices=["smooth", "mesh"]
+    )
     parser.add_argument("--variants", nargs="+", default=["plain"], choices=list(VARIANTS))
     parser.add_argument("--section", default="relax_scan")
     args = parser.parse_args()
@@ -56,17 +57,27 @@ def main() -> None:
             case = {
                 "material": "powernet",
                 "body": {"mesh": str(path), "surface": surface},
-                "garment": {"bottom": 0.86, "top": 1.22, "reduction": 0.15, "grid": [n, m],
-                            "edges": "sliding"},
-            }  # fmt: skip
+                "garment": {
+                    "bottom": 0.86,
+                    "top": 1.22,
+                    "reduction": 0.15,
+                    "grid": [n, m],
+                    "edges": "sliding",
+                },
+            }
             start = time.perf_counter()
             state = initial_state(case)
             body, _ = body_from_config(state.case.body.block)
             prepared = time.perf_counter() - start
             settings = Settings(
-                tolerance=1e-8, max_iterations=iterations, linear_solver="superlu",
-                progress=False, log_every=0, continuation=continued, reuse=reuse,
-            )  # fmt: skip
+                tolerance=1e-8,
+                max_iterations=iterations,
+                linear_solver="superlu",
+                progress=False,
+                log_every=0,
+                continuation=continued,
+                reuse=reuse,
+            )
             result = relax(state, body, settings)
             # with continuation the history is the fine grid's, after the coarse levels
             reached = (
@@ -74,16 +85,31 @@ def main() -> None:
                 if variant == "plain"
                 else (f"{result.seconds:.2f}" if result.converged else f"> {result.seconds:.0f}")
             )
-            rows.append([
-                f"{n} x {m}", f"{n * m:,}", surface, variant, f"{prepared:.1f}",
-                str(result.iterations) + ("" if result.converged else " (cap)"),
-                str(result.factorisations),
-                seconds_to(result, 1e-6) if variant == "plain" else "", reached,
-            ])  # fmt: skip
+            rows.append(
+                [
+                    f"{n} x {m}",
+                    f"{n * m:,}",
+                    surface,
+                    variant,
+                    f"{prepared:.1f}",
+                    str(result.iterations) + ("" if result.converged else " (cap)"),
+                    str(result.factorisations),
+                    seconds_to(result, 1e-6) if variant == "plain" else "",
+                    reached,
+                ]
+            )
             print(rows[-1], flush=True)
-    header = ["grid", "nodes", "surface", "variant", "predeform (+ fit) [s]",
-              "(fine) iterations", "factorisations", "relax to 1e-6 [s]",
-              "relax to 1e-8 [s]"]  # fmt: skip
+    header = [
+        "grid",
+        "nodes",
+        "surface",
+        "variant",
+        "predeform (+ fit) [s]",
+        "(fine) iterations",
+        "factorisations",
+        "relax to 1e-6 [s]",
+        "relax to 1e-8 [s]",
+    ]
     body = (
         f"One run each on {platform.machine()}, {os.cpu_count()} cores, Newton with SuperLU; "
         f"the faceted runs capped at {args.mesh_iterations} iterations.\n\n"

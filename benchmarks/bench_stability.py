@@ -35,18 +35,28 @@ SOLVERS_DOC = Path(__file__).resolve().parents[1] / "docs" / "solvers.md"
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--grids", nargs="+", default=["96x48", "224x112", "448x224"])
-    parser.add_argument("--variants", nargs="+", default=["continuation+reuse"],
-                        choices=list(VARIANTS))  # fmt: skip
+    parser.add_argument(
+        "--variants", nargs="+", default=["continuation+reuse"], choices=list(VARIANTS)
+    )
     parser.add_argument("--tolerance", type=float, default=1e-10)
-    parser.add_argument("--plain-up-to", type=int, default=30_000,
-                        help="plain Newton only on grids of at most this many nodes")  # fmt: skip
+    parser.add_argument(
+        "--plain-up-to",
+        type=int,
+        default=30_000,
+        help="plain Newton only on grids of at most this many nodes",
+    )
     parser.add_argument("--no-write", action="store_true", help="print, leave the docs alone")
     args = parser.parse_args()
     rows = []
     for grid in args.grids:
         n, m, state, body = torso_case(grid)
-        base = Settings(tolerance=args.tolerance, max_iterations=100, progress=False,
-                        log_every=0, linear_solver="superlu")  # fmt: skip
+        base = Settings(
+            tolerance=args.tolerance,
+            max_iterations=100,
+            progress=False,
+            log_every=0,
+            linear_solver="superlu",
+        )
         for variant in args.variants:
             if variant == "plain" and n * m > args.plain_up_to:
                 continue
@@ -61,19 +71,38 @@ def main() -> None:
             )
             squeezed = np.flatnonzero(warp < 0)  # warp spring k joins rows k // n and k // n + 1
             heights = ev.x[(squeezed // n) * n, 2] if squeezed.size else np.array([np.nan])
-            rows.append([
-                grid, f"{n * m:,}", variant, str(result.iterations), f"{result.final.residual:.1e}",
-                f"{result.final.energy:.9f}", str(modes), f"{np.count_nonzero(weft < 0):,}",
-                f"{squeezed.size:,} of {warp.size:,}", f"{strain.min():.3f}",
-                f"{np.nanmin(heights):.3f}-{np.nanmax(heights):.3f}",
-            ])  # fmt: skip
+            rows.append(
+                [
+                    grid,
+                    f"{n * m:,}",
+                    variant,
+                    str(result.iterations),
+                    f"{result.final.residual:.1e}",
+                    f"{result.final.energy:.9f}",
+                    str(modes),
+                    f"{np.count_nonzero(weft < 0):,}",
+                    f"{squeezed.size:,} of {warp.size:,}",
+                    f"{strain.min():.3f}",
+                    f"{np.nanmin(heights):.3f}-{np.nanmax(heights):.3f}",
+                ]
+            )
             print(rows[-1], flush=True)
     table = markdown_table(
-        ["grid", "nodes", "variant", "iterations", "residual", "energy [J]", "unstable modes",
-         "compressed weft springs", "compressed warp springs", "least strain",
-         "compressed warp at heights [m]"],
+        [
+            "grid",
+            "nodes",
+            "variant",
+            "iterations",
+            "residual",
+            "energy [J]",
+            "unstable modes",
+            "compressed weft springs",
+            "compressed warp springs",
+            "least strain",
+            "compressed warp at heights [m]",
+        ],
         rows,
-    )  # fmt: skip
+    )
     note = (
         f"One run each on {platform.machine()}, Newton (SuperLU) to {args.tolerance:g}; "
         "unstable modes: negative eigenvalues of the exact constrained Newton matrix at the "

@@ -31,10 +31,18 @@ PATHS = {
 
 def run(grid: tuple[int, int], solver: dict, estimate: bool) -> tuple[xr.Dataset, float]:
     case = {
-        "material": "powernet", "body": {"leg": {"size": "M"}}, "solver": solver,
-        "garment": {"bottom": 0.09, "top": 0.77, "grid": list(grid), "reduction": 0.16,
-                    "lengthwise_reduction": 0.15, "error_estimate": estimate},
-    }  # fmt: skip
+        "material": "powernet",
+        "body": {"leg": {"size": "M"}},
+        "solver": solver,
+        "garment": {
+            "bottom": 0.09,
+            "top": 0.77,
+            "grid": list(grid),
+            "reduction": 0.16,
+            "lengthwise_reduction": 0.15,
+            "error_estimate": estimate,
+        },
+    }
     with tempfile.TemporaryDirectory() as tmp:
         path = Path(tmp) / "case.yaml"
         path.write_text(yaml.safe_dump(case))
@@ -57,8 +65,11 @@ def main() -> None:
         for line in ("B", "C", "F"):
             k = list(ds["landmark"].values).index(line)
             error = float(ds["pressure_mean_error"].values[k]) / MMHG
-            print(f"| {grid} | {line} | {float(ds['pressure_mean'].values[k]) / MMHG:.2f} | "
-                  f"{error:.2f} |", flush=True)  # fmt: skip
+            print(
+                f"| {grid} | {line} | {float(ds['pressure_mean'].values[k]) / MMHG:.2f} | "
+                f"{error:.2f} |",
+                flush=True,
+            )
     print()
     print("| grid | path | predeform + relax + aggregate (s) | B, C, F (mmHg) | unstable modes |")
     print("|---|---|---|---|---|")
@@ -66,8 +77,11 @@ def main() -> None:
         ds, seconds = run((96, 96), solver, False)
         pairs = zip(ds["landmark"].values, ds["pressure_mean"].values, strict=True)
         marks = {str(k): float(v) / MMHG for k, v in pairs}
-        print(f"| 96x96 | {name} | {seconds:.1f} | {marks['B']:.3f}, {marks['C']:.3f}, "
-              f"{marks['F']:.3f} | {ds.attrs.get('unstable_modes')} |", flush=True)  # fmt: skip
+        print(
+            f"| 96x96 | {name} | {seconds:.1f} | {marks['B']:.3f}, {marks['C']:.3f}, "
+            f"{marks['F']:.3f} | {ds.attrs.get('unstable_modes')} |",
+            flush=True,
+        )
 
 
 if __name__ == "__main__":

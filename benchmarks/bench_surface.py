@@ -51,16 +51,27 @@ def main() -> None:
         some = near[:20_000]
         closest = median_seconds(lambda: body.query(some), repeat=5)
         exact = median_seconds(lambda: mesh.query(some), repeat=5)
-        rows.append([
-            f"{len(sphere.faces):,}", f"{fit.smoothing * 1e3:.3g} / {fit.spacing * 1e3:.3g}",
-            f"{fitted:.1f}", f"{len(near) / values / 1e6:.2f}",
-            f"{closest / len(some) * 1e6:.1f}", f"{exact / len(some) * 1e6:.1f}",
-            f"{fit.deviation_max * 1e3:.3f}",
-        ])  # fmt: skip
+        rows.append(
+            [
+                f"{len(sphere.faces):,}",
+                f"{fit.smoothing * 1e3:.3g} / {fit.spacing * 1e3:.3g}",
+                f"{fitted:.1f}",
+                f"{len(near) / values / 1e6:.2f}",
+                f"{closest / len(some) * 1e6:.1f}",
+                f"{exact / len(some) * 1e6:.1f}",
+                f"{fit.deviation_max * 1e3:.3f}",
+            ]
+        )
         print(rows[-1], flush=True)
-    header = ["faces", "sigma / h [mm]", "fit [s]", "value+gradient [M points/s]",
-              "closest point [us/point]", "mesh AABB query [us/point]",
-              "vertices off the surface [mm]"]  # fmt: skip
+    header = [
+        "faces",
+        "sigma / h [mm]",
+        "fit [s]",
+        "value+gradient [M points/s]",
+        "closest point [us/point]",
+        "mesh AABB query [us/point]",
+        "vertices off the surface [mm]",
+    ]
     table = markdown_table(header, rows)
     table += f"\n\n{platform.machine()}, {os.cpu_count()} cores; fit once, queries median of 5."
     print(table)

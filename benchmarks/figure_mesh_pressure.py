@@ -48,8 +48,14 @@ def main() -> None:
         x = result.final.x.reshape(M, N, 3)[row]
         angle = np.degrees(np.arctan2(x[:, 1], x[:, 0])) % 360
         order = np.argsort(angle)
-        ax.plot(angle[order], p.reshape(M, N)[row][order] / MMHG, style, ms=3, lw=0.8,
-                label=f"surface: {surface}")  # fmt: skip
+        ax.plot(
+            angle[order],
+            p.reshape(M, N)[row][order] / MMHG,
+            style,
+            ms=3,
+            lw=0.8,
+            label=f"surface: {surface}",
+        )
         laplace = float(hoop_tension(state, result)[row].mean()) / RADIUS / MMHG
     ax.axhline(laplace, color="k", lw=0.8, ls="--", label="T / r (Laplace)")
     for k in range(SEGMENTS):  # the mesh's edges (vertices of the 64-gon)
@@ -57,8 +63,9 @@ def main() -> None:
     ax.set_xlim(0, 90)
     ax.set_xlabel("angle around the cylinder [deg] (grey: the mesh's edges)")
     ax.set_ylabel("pressure [mmHg]")
-    ax.set_title(f"{SEGMENTS}-segment cylinder mesh, r = {RADIUS} m, 20 % reduction, {N} nodes "
-                 "around")  # fmt: skip
+    ax.set_title(
+        f"{SEGMENTS}-segment cylinder mesh, r = {RADIUS} m, 20 % reduction, {N} nodes around"
+    )
     ax.legend(fontsize=8, loc="upper right")
     with atomic_output(args.output) as tmp:
         fig.savefig(tmp, format="png", dpi=120)

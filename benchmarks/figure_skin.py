@@ -33,10 +33,15 @@ from cloth.stages.case import run_case
 BASE = {
     "material": "powernet",
     "body": {"torso": {"size": "M"}},
-    "garment": {"bottom": 0.86, "top": 1.22, "reduction": 0.2, "grid": [48, 24],
-                "edges": "sliding"},
+    "garment": {
+        "bottom": 0.86,
+        "top": 1.22,
+        "reduction": 0.2,
+        "grid": [48, 24],
+        "edges": "sliding",
+    },
     "solver": {"method": "newton", "tolerance": 1e-8, "max_iterations": 150},
-}  # fmt: skip
+}
 TISSUE = {"thickness": 0.015, "modulus": 20e3}
 CASES = {
     "rigid, frictionless": BASE,
@@ -63,8 +68,7 @@ def main() -> None:
     grid = fig.add_gridspec(1, 5, width_ratios=[1, 1, 1, 0.08, 1.5])
     for k, (label, ds) in enumerate(results.items()):
         ax = fig.add_subplot(grid[0, k], projection="3d")
-        draw_view(ax, ds, body_band(ds), "pressure_mmHg", 1.0, norm, VIEWS["front"],
-                  girths=False)  # fmt: skip
+        draw_view(ax, ds, body_band(ds), "pressure_mmHg", 1.0, norm, VIEWS["front"], girths=False)
         ax.set_title(label, fontsize=9)
     bar = fig.add_subplot(grid[0, 3])
     fig.colorbar(plt.cm.ScalarMappable(norm, "viridis"), cax=bar, label="pressure [mmHg]")
@@ -75,9 +79,12 @@ def main() -> None:
         means = ds["pressure_mean"].values / 133.322
         ax.plot(range(len(names)), means, style, label=label)
     for i, name in enumerate(names):
-        print(f"{name} | " + " | ".join(
-            f"{float(ds['pressure_mean'].values[i]) / 133.322:.2f}" for ds in results.values()
-        ))  # fmt: skip
+        print(
+            f"{name} | "
+            + " | ".join(
+                f"{float(ds['pressure_mean'].values[i]) / 133.322:.2f}" for ds in results.values()
+            )
+        )
     ax.set_xticks(range(len(names)), names)
     ax.set_ylabel("mean pressure on the girth line [mmHg]")
     ax.grid(alpha=0.3)

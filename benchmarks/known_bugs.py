@@ -18,22 +18,42 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 #: (name, file, line as it is, line with the bug, tests that must fail)
 BUGS = [
-    ("mmHg is 100 Pa", "cloth/results/pressure.py", "MMHG = 13.5951e3 * 9.80665 * 1e-3",
-     "MMHG = 100.0", "tests/test_reporting.py"),
-    ("RAL class from the mean in Pa", "cloth/results/landmarks.py",
-     '"ral_gz_387_class": ral_class(self.mean / MMHG),',
-     '"ral_gz_387_class": ral_class(self.mean),',
-     "tests/test_reporting.py"),
-    ("girth-line mean is the max", "cloth/results/landmarks.py",
-     "                float(values.mean()),", "                float(values.max()),",
-     "tests/test_reporting.py"),
-    ("kPa target x 100", "cloth/pipeline/sweep.py", 'else target["pressure_kPa"] * 1e3',
-     'else target["pressure_kPa"] * 1e2', "tests/test_reporting.py"),
-    ("set strain doubled", "cloth/materials/labtables.py",
-     "return zero_force_strain(strain[unloading], stress[unloading])",
-     "return 2 * zero_force_strain(strain[unloading], stress[unloading])",
-     "tests/test_ingest.py tests/test_worn.py"),
-]  # fmt: skip
+    (
+        "mmHg is 100 Pa",
+        "cloth/results/pressure.py",
+        "MMHG = 13.5951e3 * 9.80665 * 1e-3",
+        "MMHG = 100.0",
+        "tests/test_reporting.py",
+    ),
+    (
+        "RAL class from the mean in Pa",
+        "cloth/results/landmarks.py",
+        '"ral_gz_387_class": ral_class(self.mean / MMHG),',
+        '"ral_gz_387_class": ral_class(self.mean),',
+        "tests/test_reporting.py",
+    ),
+    (
+        "girth-line mean is the max",
+        "cloth/results/landmarks.py",
+        "                float(values.mean()),",
+        "                float(values.max()),",
+        "tests/test_reporting.py",
+    ),
+    (
+        "kPa target x 100",
+        "cloth/pipeline/sweep.py",
+        'else target["pressure_kPa"] * 1e3',
+        'else target["pressure_kPa"] * 1e2',
+        "tests/test_reporting.py",
+    ),
+    (
+        "set strain doubled",
+        "cloth/materials/labtables.py",
+        "return zero_force_strain(strain[unloading], stress[unloading])",
+        "return 2 * zero_force_strain(strain[unloading], stress[unloading])",
+        "tests/test_ingest.py tests/test_worn.py",
+    ),
+]
 
 
 def survives(file: str, line: str, bug: str, tests: str) -> tuple[bool, str]:
@@ -51,9 +71,11 @@ def survives(file: str, line: str, bug: str, tests: str) -> tuple[bool, str]:
         path.write_text(text.replace(line, bug))
         run = subprocess.run(
             [sys.executable, "-m", "pytest", "-q", "-x", "-p", "no:cacheprovider", *tests.split()],
-            cwd=copy, capture_output=True, text=True,
+            cwd=copy,
+            capture_output=True,
+            text=True,
             env={"PYTHONPATH": str(copy), "PATH": "/usr/bin:/bin", "MPLBACKEND": "Agg"},
-        )  # fmt: skip
+        )
         last = run.stdout.strip().splitlines()[-1] if run.stdout.strip() else run.stderr[-200:]
         return run.returncode == 0, last
 

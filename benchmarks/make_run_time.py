@@ -37,13 +37,20 @@ def clone(revision: str, where: Path) -> Path:
 def run(folder: Path, config: str) -> float:
     """One pipeline run from nothing (its results and Snakemake's records removed), seconds."""
     subprocess.run(["rm", "-rf", "results", ".snakemake"], cwd=folder, check=True)
-    env = {**os.environ, "PYTHONPATH": str(folder), "MPLBACKEND": "Agg",
-           "PATH": f"{ROOT / '.venv' / 'bin'}:{os.environ['PATH']}"}  # fmt: skip
+    env = {
+        **os.environ,
+        "PYTHONPATH": str(folder),
+        "MPLBACKEND": "Agg",
+        "PATH": f"{ROOT / '.venv' / 'bin'}:{os.environ['PATH']}",
+    }
     start = time.perf_counter()
     done = subprocess.run(
         [str(ROOT / ".venv/bin/snakemake"), "--cores", "2", "--configfile", config, "-q"],
-        cwd=folder, env=env, capture_output=True, text=True,
-    )  # fmt: skip
+        cwd=folder,
+        env=env,
+        capture_output=True,
+        text=True,
+    )
     if done.returncode:
         sys.exit(f"{folder.name}: the pipeline failed:\n{done.stderr[-2000:]}")
     return time.perf_counter() - start

@@ -31,7 +31,7 @@ PARTS = {
     "contact queries (wherever called)": [("bodies/implicit.py", "query")],
     "stiffness (springs' Hessian blocks)": [("cloth/garment/mechanics.py", "stiffness")],
     "the Newton matrix (projection, contact)": [("solvers/newton.py", "newton_matrix")],
-    "factorisation (SuperLU)": [("solvers/linear.py", "_factor")],
+    "factorisation (SuperLU)": [("solvers/linear.py", "lu_factor")],
     "of which the ordering (once per grid)": [("solvers/ordering.py", "dof_permutation")],
     "solves with a factor": [("~", "<method 'solve' of 'SuperLU' objects>")],
     "GMRES (reuse)": [("_isolve/iterative.py", "gmres")],
@@ -47,9 +47,10 @@ def profile(state, body, settings) -> tuple[dict[str, float], float, object]:
     times = {}
     for part, functions in PARTS.items():
         times[part] = sum(
-            ct for (file, _, name), (_, _, _, ct, _) in stats.items()
+            ct
+            for (file, _, name), (_, _, _, ct, _) in stats.items()
             if any(name == n and (f == "~" or file.endswith(f)) for f, n in functions)
-        )  # fmt: skip
+        )
     return times, total, result
 
 
@@ -61,9 +62,15 @@ def main() -> None:
     n, m, state, body = torso_case(args.grid)
     runs = {}
     for name, continued, reuse in (("plain", False, False), ("continuation+reuse", True, True)):
-        settings = Settings(tolerance=1e-8, max_iterations=100, progress=False, log_every=0,
-                            linear_solver="superlu", continuation=continued,
-                            reuse=reuse)  # fmt: skip
+        settings = Settings(
+            tolerance=1e-8,
+            max_iterations=100,
+            progress=False,
+            log_every=0,
+            linear_solver="superlu",
+            continuation=continued,
+            reuse=reuse,
+        )
         runs[name] = profile(state, body, settings)
         print(name, runs[name][1], flush=True)
     header = ["part"]

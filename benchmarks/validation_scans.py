@@ -54,8 +54,12 @@ def write_obj(path: Path, vertices: np.ndarray, faces: np.ndarray) -> Path:
 def run(body: dict, grid: tuple[int, int], mesh=None) -> dict:
     chart = chart_size("M")
     heights = {name: chart.height[name] for name in LANDMARKS}
-    case = {"material": "powernet", "body": body, "landmarks": heights,
-            "garment": {**GARMENT, "grid": list(grid)}}  # fmt: skip
+    case = {
+        "material": "powernet",
+        "body": body,
+        "landmarks": heights,
+        "garment": {**GARMENT, "grid": list(grid)},
+    }
     start = time.perf_counter()
     state = initial_state(case)
     solid, _ = body_from_config(state.case.body.block)
@@ -63,9 +67,15 @@ def run(body: dict, grid: tuple[int, int], mesh=None) -> dict:
     result = relax(state, solid, settings)
     ev = result.final
     fields = node_fields(
-        state.grid, ev.x, ev.springs, state.fabric.thickness, ev.forces, ev.unbalanced,
-        ev.on_body, ev.normal,
-    )  # fmt: skip
+        state.grid,
+        ev.x,
+        ev.springs,
+        state.fabric.thickness,
+        ev.forces,
+        ev.unbalanced,
+        ev.on_body,
+        ev.normal,
+    )
     marks = {m.name: m.mean for m in landmarks(heights, ev.x, fields, state.grid)}
     out = {
         "iterations": result.iterations,
@@ -76,9 +86,11 @@ def run(body: dict, grid: tuple[int, int], mesh=None) -> dict:
         "peak": float(fields.pressure.max()),
         "surface": state.body.get("surface", {}),
         # (m,) mean height (m) and mean pressure (Pa) of every grid row
-        "rows": (ev.x[:, 2].reshape(grid[1], grid[0]).mean(axis=1),
-                 fields.pressure.reshape(grid[1], grid[0]).mean(axis=1)),
-    }  # fmt: skip
+        "rows": (
+            ev.x[:, 2].reshape(grid[1], grid[0]).mean(axis=1),
+            fields.pressure.reshape(grid[1], grid[0]).mean(axis=1),
+        ),
+    }
     if mesh is not None:  # how far the garment lies inside the original mesh
         out["enters"] = float(max(0.0, -mesh.query(ev.x)[0].min()))
     return out
@@ -110,21 +122,38 @@ def main() -> None:
     if args.profile:
         profile_table(args.profile, grid, reference, folder)
         return
-    header = ["body", "refined", "sigma [mm]", "iterations", "residual",
-              *(f"{n} [mmHg]" for n in LANDMARKS)]  # fmt: skip
-    rows = [["smooth parametric torso", "-", "-", str(reference["iterations"]),
-             f"{reference['residual']:.1e}", *pressures(reference["marks"])]]  # fmt: skip
+    header = [
+        "body",
+        "refined",
+        "sigma [mm]",
+        "iterations",
+        "residual",
+        *(f"{n} [mmHg]" for n in LANDMARKS),
+    ]
+    rows = [
+        [
+            "smooth parametric torso",
+            "-",
+            "-",
+            str(reference["iterations"]),
+            f"{reference['residual']:.1e}",
+            *pressures(reference["marks"]),
+        ]
+    ]
     for spec in args.meshes:
         around, rings = (int(v) for v in spec.split("x"))
         path = write_obj(folder / f"torso_{spec}.obj", *torso_mesh(chart, around, rings))
         got = run({"mesh": str(path)}, grid)
-        rows.append([
-            f"its mesh, {around} around x {rings} rings",
-            str(got["surface"].get("refine_levels", 0)),
-            f"{got['surface']['smoothing_m'] * 1e3:.3g}",
-            str(got["iterations"]) + ("" if got["converged"] else " (not converged)"),
-            f"{got['residual']:.1e}", *pressures(got["marks"], reference["marks"]),
-        ])  # fmt: skip
+        rows.append(
+            [
+                f"its mesh, {around} around x {rings} rings",
+                str(got["surface"].get("refine_levels", 0)),
+                f"{got['surface']['smoothing_m'] * 1e3:.3g}",
+                str(got["iterations"]) + ("" if got["converged"] else " (not converged)"),
+                f"{got['residual']:.1e}",
+                *pressures(got["marks"], reference["marks"]),
+            ]
+        )
         print(rows[-1], flush=True)
     replace_section("scan_refinement", markdown_table(header, rows), DOC)
 
@@ -133,21 +162,37 @@ def main() -> None:
     vertices, faces = torso_mesh(chart, 128, 120)
     path = write_obj(folder / "torso_smoothing.obj", vertices, faces)
     mesh = MeshBody(vertices, faces)
-    header = ["sigma [mm]", "vertices off the surface, max / RMS [mm]", "iterations",
-              *(f"{n} [mmHg]" for n in LANDMARKS), "peak [mmHg]",
-              "enters the mesh [mm]"]  # fmt: skip
-    rows = [["smooth torso", "-", str(reference["iterations"]), *pressures(reference["marks"]),
-             f"{reference['peak'] / MMHG:.1f}", "-"]]  # fmt: skip
+    header = [
+        "sigma [mm]",
+        "vertices off the surface, max / RMS [mm]",
+        "iterations",
+        *(f"{n} [mmHg]" for n in LANDMARKS),
+        "peak [mmHg]",
+        "enters the mesh [mm]",
+    ]
+    rows = [
+        [
+            "smooth torso",
+            "-",
+            str(reference["iterations"]),
+            *pressures(reference["marks"]),
+            f"{reference['peak'] / MMHG:.1f}",
+            "-",
+        ]
+    ]
     for sigma in args.smoothing:
         got = run({"mesh": str(path), "smoothing": sigma}, grid, mesh)
         s = got["surface"]
-        rows.append([
-            f"{sigma * 1e3:.3g}",
-            f"{s['deviation_max_m'] * 1e3:.2f} / {s['deviation_rms_m'] * 1e3:.2f}",
-            str(got["iterations"]) + ("" if got["converged"] else " (not converged)"),
-            *pressures(got["marks"], reference["marks"]), f"{got['peak'] / MMHG:.1f}",
-            f"{got['enters'] * 1e3:.2f}",
-        ])  # fmt: skip
+        rows.append(
+            [
+                f"{sigma * 1e3:.3g}",
+                f"{s['deviation_max_m'] * 1e3:.2f} / {s['deviation_rms_m'] * 1e3:.2f}",
+                str(got["iterations"]) + ("" if got["converged"] else " (not converged)"),
+                *pressures(got["marks"], reference["marks"]),
+                f"{got['peak'] / MMHG:.1f}",
+                f"{got['enters'] * 1e3:.2f}",
+            ]
+        )
         print(rows[-1], flush=True)
     replace_section("scan_smoothing", markdown_table(header, rows), DOC)
 
@@ -160,9 +205,14 @@ def profile_table(spec: str, grid: tuple[int, int], reference: dict, folder: Pat
     got = run({"mesh": str(write_obj(folder / f"torso_{spec}.obj", vertices, faces))}, grid)
     ring_z = np.unique(np.round(vertices[:, 2], 9))
     z, smooth = reference["rows"]
-    header = ["girth line", "mesh ring spacing [mm]", "smooth torso [mmHg]",
-              "smooth torso within half a ring spacing [%]", f"mesh {spec} [mmHg]",
-              f"mesh {spec}, within half a ring spacing [%]"]  # fmt: skip
+    header = [
+        "girth line",
+        "mesh ring spacing [mm]",
+        "smooth torso [mmHg]",
+        "smooth torso within half a ring spacing [%]",
+        f"mesh {spec} [mmHg]",
+        f"mesh {spec}, within half a ring spacing [%]",
+    ]
     rows = []
     for name in LANDMARKS:
         height = chart.height[name]
@@ -172,17 +222,24 @@ def profile_table(spec: str, grid: tuple[int, int], reference: dict, folder: Pat
         line = reference["marks"][name]
         mesh_z, mesh_p = got["rows"]
         mesh_band = np.abs(mesh_z - height) <= spacing / 2
-        rows.append([
-            name, f"{spacing * 1e3:.1f}", f"{line / MMHG:.2f}", _spread(smooth[band], line),
-            f"{got['marks'][name] / MMHG:.2f} ({100 * (got['marks'][name] / line - 1):+.1f} %)",
-            _spread(mesh_p[mesh_band], line),
-        ])  # fmt: skip
+        rows.append(
+            [
+                name,
+                f"{spacing * 1e3:.1f}",
+                f"{line / MMHG:.2f}",
+                _spread(smooth[band], line),
+                f"{got['marks'][name] / MMHG:.2f} ({100 * (got['marks'][name] / line - 1):+.1f} %)",
+                _spread(mesh_p[mesh_band], line),
+            ]
+        )
         print(rows[-1], flush=True)
     surface = got["surface"]
-    note = (f"Garment grid {grid[0]} x {grid[1]}; the mesh {around} around x {rings} rings "
-            f"(refined {surface.get('refine_levels', 0)} times, sigma "
-            f"{surface['smoothing_m'] * 1e3:.3g} mm), {got['iterations']} iterations."
-            "\n\n")  # fmt: skip
+    note = (
+        f"Garment grid {grid[0]} x {grid[1]}; the mesh {around} around x {rings} rings "
+        f"(refined {surface.get('refine_levels', 0)} times, sigma "
+        f"{surface['smoothing_m'] * 1e3:.3g} mm), {got['iterations']} iterations."
+        "\n\n"
+    )
     replace_section("scan_profile", note + markdown_table(header, rows), DOC)
 
 

@@ -27,10 +27,17 @@ DOC = Path(__file__).resolve().parents[1] / "docs" / "validation.md"
 
 def solve(body: dict, reduction: float, n: int, around: str = "weft"):
     case = {
-        "material": "powernet", "body": body,
-        "garment": {"bottom": 0.1, "top": 0.4, "reduction": reduction, "grid": [n, 6],
-                    "edges": "sliding", "around": around},
-    }  # fmt: skip
+        "material": "powernet",
+        "body": body,
+        "garment": {
+            "bottom": 0.1,
+            "top": 0.4,
+            "reduction": reduction,
+            "grid": [n, 6],
+            "edges": "sliding",
+            "around": around,
+        },
+    }
     state = initial_state(case)
     solid, _ = body_from_config(state.case.body.block)
     result = relax(state, solid, Settings(tolerance=1e-10, max_iterations=60, progress=False))
@@ -56,15 +63,33 @@ def main() -> None:
             chord = 2 * radius * np.sin(np.pi / grid.n) / rest - 1
             reference = state.fabric.weft.stress(chord) * state.fabric.thickness / radius
             chord_error = np.max(np.abs(p / reference - 1))
-            rows.append([f"{radius:.2f}", f"{reduction:.1f}", f"{expected:.1f}",
-                         f"{expected / MMHG:.2f}", f"{p.mean():.1f}", f"{100 * error:.3f}",
-                         f"{chord_error:.1e}", f"{100 * spread:.2e}",
-                         f"{result.history.residual[-1]:.1e}"])  # fmt: skip
+            rows.append(
+                [
+                    f"{radius:.2f}",
+                    f"{reduction:.1f}",
+                    f"{expected:.1f}",
+                    f"{expected / MMHG:.2f}",
+                    f"{p.mean():.1f}",
+                    f"{100 * error:.3f}",
+                    f"{chord_error:.1e}",
+                    f"{100 * spread:.2e}",
+                    f"{result.history.residual[-1]:.1e}",
+                ]
+            )
     laplace = markdown_table(
-        ["radius [m]", "reduction", "T/r [Pa]", "T/r [mmHg]", "mean pressure [Pa]",
-         "max error vs arc [%]", "max error vs chord [1]", "tension spread [%]", "residual"],
+        [
+            "radius [m]",
+            "reduction",
+            "T/r [Pa]",
+            "T/r [mmHg]",
+            "mean pressure [Pa]",
+            "max error vs arc [%]",
+            "max error vs chord [1]",
+            "tension spread [%]",
+            "residual",
+        ],
         rows,
-    )  # fmt: skip
+    )
     weft = solve({"cylinder": {"radius": 0.1, "top": 0.5}}, 0.2, 64)
     warp = solve({"cylinder": {"radius": 0.1, "top": 0.5}}, 0.2, 64, around="warp")
     eps = 1 / 0.8 - 1
@@ -82,9 +107,15 @@ def main() -> None:
     err = np.abs(p / (t_node * kappa) - 1)
     ell = markdown_table(
         ["grid", "tension spread [%]", "pressure vs T kappa: max error [%]", "mean error [%]"],
-        [["128 x 6", f"{100 * (t.max() / t.min() - 1):.3f}", f"{100 * err.max():.3f}",
-          f"{100 * err.mean():.3f}"]],
-    )  # fmt: skip
+        [
+            [
+                "128 x 6",
+                f"{100 * (t.max() / t.min() - 1):.3f}",
+                f"{100 * err.max():.3f}",
+                f"{100 * err.mean():.3f}",
+            ]
+        ],
+    )
     cone = cone_table()
     replace_section("cone", cone, DOC)
     replace_section("laplace", laplace, DOC)
@@ -111,10 +142,17 @@ def cone_table() -> str:
         for lengthwise in (0.0, 0.1):
             bottom, top = (0.05, 0.25) if name == "cone" else (0.1, 0.4)
             case = {
-                "material": "powernet", "body": body,
-                "garment": {"bottom": bottom, "top": top, "reduction": 0.15, "grid": [64, 8],
-                            "edges": "sliding", "lengthwise_reduction": lengthwise},
-            }  # fmt: skip
+                "material": "powernet",
+                "body": body,
+                "garment": {
+                    "bottom": bottom,
+                    "top": top,
+                    "reduction": 0.15,
+                    "grid": [64, 8],
+                    "edges": "sliding",
+                    "lengthwise_reduction": lengthwise,
+                },
+            }
             state = initial_state(case)
             solid, _ = body_from_config(state.case.body.block)
             settings = Settings(tolerance=1e-10, max_iterations=60, progress=False)
@@ -129,18 +167,27 @@ def cone_table() -> str:
             edges = np.concatenate([np.arange(64), np.arange(7 * 64, 8 * 64)])
             held = out["contact"].values.ravel()[edges].astype(bool)
             lam = (p.ravel() * out["node_area"].values.ravel())[edges][held]
-            rows.append([
-                name, f"{lengthwise:.1f}", f"{ratio.min():.4f}-{ratio.max():.4f}",
-                f"{100 * np.max(np.abs(push[edges][held] / lam - 1)):.1f}",
-                f"{held.sum()} of {edges.size}",
-                f"{np.abs(out['edge_support_force'].values).max():.3g}",
-            ])  # fmt: skip
+            rows.append(
+                [
+                    name,
+                    f"{lengthwise:.1f}",
+                    f"{ratio.min():.4f}-{ratio.max():.4f}",
+                    f"{100 * np.max(np.abs(push[edges][held] / lam - 1)):.1f}",
+                    f"{held.sum()} of {edges.size}",
+                    f"{np.abs(out['edge_support_force'].values).max():.3g}",
+                ]
+            )
     return markdown_table(
-        ["body", "lengthwise reduction", "p_laplace / pressure (interior contact)",
-         "-R.n vs lambda at edge nodes, max [%]", "edge nodes on the body",
-         "max edge support force [N]"],
+        [
+            "body",
+            "lengthwise reduction",
+            "p_laplace / pressure (interior contact)",
+            "-R.n vs lambda at edge nodes, max [%]",
+            "edge nodes on the body",
+            "max edge support force [N]",
+        ],
         rows,
-    )  # fmt: skip
+    )
 
 
 if __name__ == "__main__":

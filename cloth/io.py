@@ -193,6 +193,10 @@ def flag_variable(shape: tuple[int, int], values, long_name: str, meanings: str)
     ``meanings``."""
     count = len(meanings.split())
     return node_variable(
-        shape, values, "1", long_name,
-        flag_values=np.arange(count, dtype=np.int8), flag_meanings=meanings,
-    )  # fmt: skip
+        shape,
+        values,
+        "1",
+        long_name,
+        flag_values=np.arange(count, dtype=np.int8),
+        flag_meanings=meanings,
+    )

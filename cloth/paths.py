@@ -42,22 +42,27 @@ def path_form(value: object, source: str | Path | None, field: str | None) -> Pa
         raise InputError(
             f"the path {shown(value)} is {size} bytes long; a path has at most {PATH_MAX}; "
             "give a shorter one",
-            source, field,
-        )  # fmt: skip
+            source,
+            field,
+        )
     for name in Path(value).parts:
         if len(os.fsencode(name)) > NAME_MAX:
             raise InputError(
                 f"the name {shown(name)} in the path is {len(os.fsencode(name))} bytes long; a "
                 f"file name has at most {NAME_MAX}; check the path",
-                source, field,
-            )  # fmt: skip
+                source,
+                field,
+            )
     return Path(value)
 
 
 def input_file(
-    value: object, base_dir: str | Path, source: str | Path | None, field: str | None,
+    value: object,
+    base_dir: str | Path,
+    source: str | Path | None,
+    field: str | None,
     what: str = "file",
-) -> Path:  # fmt: skip
+) -> Path:
     """The file ``value`` names (relative to ``base_dir`` unless absolute), checked: a path's
     form (`path_form`), present, a file and not a folder, readable. ``what`` names it in
     messages (e.g. "mesh file")."""
@@ -69,8 +74,9 @@ def input_file(
     if not path.is_file():
         raise InputError(f"{what} not found: {shown(path)}; check the path", source, field)
     if not os.access(path, os.R_OK):
-        raise InputError(f"{what} is not readable: {shown(path)}; check its permissions",
-                         source, field)  # fmt: skip
+        raise InputError(
+            f"{what} is not readable: {shown(path)}; check its permissions", source, field
+        )
     return path
 
 
@@ -93,9 +99,9 @@ def output_path(
         raise InputError(
             f"{shown(absolute)} is a file, so {shown(path)} cannot be written under it; give "
             "another path",
-            source, field,
-        )  # fmt: skip
+            source,
+            field,
+        )
     if not os.access(absolute, os.W_OK | os.X_OK):
-        raise InputError(f"cannot write in {shown(absolute)}; check its permissions",
-                         source, field)  # fmt: skip
+        raise InputError(f"cannot write in {shown(absolute)}; check its permissions", source, field)
     return path

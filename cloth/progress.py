@@ -34,10 +34,16 @@ class LogProgress:
             self.tenth, self.last = tenth, now
             rate = self.done / max(now - self.start, 1e-9)
             log.info(
-                "%s: %d %% (%s of %s %s, %.3g %s/s, %.0f s left)", self.desc,
-                100 * self.done // self.total, f"{self.done:,}", f"{self.total:,}", self.unit,
-                rate, self.unit, (self.total - self.done) / rate,
-            )  # fmt: skip
+                "%s: %d %% (%s of %s %s, %.3g %s/s, %.0f s left)",
+                self.desc,
+                100 * self.done // self.total,
+                f"{self.done:,}",
+                f"{self.total:,}",
+                self.unit,
+                rate,
+                self.unit,
+                (self.total - self.done) / rate,
+            )
 
     def __iter__(self) -> Iterator:
         for item in () if self.iterable is None else self.iterable:
@@ -67,5 +73,12 @@ def progress(
         total = len(iterable)  # type: ignore[arg-type]
     if show is None and not sys.stderr.isatty():
         return LogProgress(iterable, total or 0, desc, unit)
-    return tqdm(iterable, total=total, desc=desc, unit=unit, disable=show is False,
-                mininterval=1.0, leave=False)  # fmt: skip
+    return tqdm(
+        iterable,
+        total=total,
+        desc=desc,
+        unit=unit,
+        disable=show is False,
+        mininterval=1.0,
+        leave=False,
+    )

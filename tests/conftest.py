@@ -19,13 +19,15 @@ def make_fabric(thickness: float = 5.0e-4, compression: float | None = None) -> 
     (default the library's, 1 %; 0 a pure tension field)."""
     weft_slope, warp_slope = 0.05e6 / 0.1, 0.12e6 / 0.15
     weft = StressStrainCurve(
-        [0.0, 0.1, 0.3, 0.6, 1.0], [0.0, 0.05e6, 0.2e6, 0.6e6, 1.6e6],
+        [0.0, 0.1, 0.3, 0.6, 1.0],
+        [0.0, 0.05e6, 0.2e6, 0.6e6, 1.6e6],
         None if compression is None else compression * weft_slope,
-    )  # fmt: skip
+    )
     warp = StressStrainCurve(
-        [0.0, 0.15, 0.4, 0.8], [0.0, 0.12e6, 0.5e6, 1.8e6],
+        [0.0, 0.15, 0.4, 0.8],
+        [0.0, 0.12e6, 0.5e6, 1.8e6],
         None if compression is None else compression * warp_slope,
-    )  # fmt: skip
+    )
     return Fabric("test knit", weft=weft, warp=warp, thickness=thickness)
 
 
@@ -72,8 +74,13 @@ def run_result(folder, case: dict, stop: str = "aggregate"):
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     (folder / "case.yaml").write_text(yaml.safe_dump(case))
-    run_case(folder / "case.yaml", folder / "out", {}, Path(__file__).resolve().parents[1],
-             stop_after=stop)  # fmt: skip
+    run_case(
+        folder / "case.yaml",
+        folder / "out",
+        {},
+        Path(__file__).resolve().parents[1],
+        stop_after=stop,
+    )
     return folder / "out"
 
 

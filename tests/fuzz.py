@@ -27,10 +27,43 @@ TINY = {
 }
 #: Values a typo or a wrong paste puts in a case.
 ODD = [
-    None, True, False, 0, -1, 1, 2, 3, 10**9, -(10**9), 1e308, -1e308, 1e-308, -1e-9, 0.5, 1.5,
-    float("nan"), float("inf"), float("-inf"), "", " ", "x" * 5000, "powernet", "m", "..",
-    "/dev/null", "/", "a\0b", "é", [], [1], [1, 2], [1, 2, 3], [0.1, "a"], {}, {"unknown": 1},
-]  # fmt: skip
+    None,
+    True,
+    False,
+    0,
+    -1,
+    1,
+    2,
+    3,
+    10**9,
+    -(10**9),
+    1e308,
+    -1e308,
+    1e-308,
+    -1e-9,
+    0.5,
+    1.5,
+    float("nan"),
+    float("inf"),
+    float("-inf"),
+    "",
+    " ",
+    "x" * 5000,
+    "powernet",
+    "m",
+    "..",
+    "/dev/null",
+    "/",
+    "a\0b",
+    "é",
+    [],
+    [1],
+    [1, 2],
+    [1, 2, 3],
+    [0.1, "a"],
+    {},
+    {"unknown": 1},
+]
 
 
 def schema_paths(schema: dict[str, Any], prefix: tuple = ()) -> list[tuple]:
@@ -172,8 +205,11 @@ def corrupted_text(draw: st.DrawFn, text: str) -> str:
             sep = "," if "," in lines[i] else " "
             fields = lines[i].split(sep)
             j = draw(st.integers(0, len(fields) - 1))
-            fields[j] = draw(st.sampled_from(["", "nan", "inf", "-inf", "x", "1e400", "-5", "0",
-                                              "1,2", '"', "\t"]))  # fmt: skip
+            fields[j] = draw(
+                st.sampled_from(
+                    ["", "nan", "inf", "-inf", "x", "1e400", "-5", "0", "1,2", '"', "\t"]
+                )
+            )
             lines[i] = sep.join(fields)
         elif kind == "truncate":
             lines = lines[:i]

@@ -26,16 +26,25 @@ def workspace(tmp_path: Path) -> Path:
 def from_checkout(where: Path, config: str = "config/ci.yaml") -> tuple[str, ...]:
     """Snakemake arguments that run the checkout's workflow with ``where`` as the working
     directory (``--directory``), as a deployed workflow runs: nothing copied beside it."""
-    return ("-s", str(ROOT / "Snakefile"), "--directory", str(where),
-            "--configfile", str(ROOT / config))  # fmt: skip
+    return (
+        "-s",
+        str(ROOT / "Snakefile"),
+        "--directory",
+        str(where),
+        "--configfile",
+        str(ROOT / config),
+    )
 
 
 def environment(base: dict[str, str] | None = None) -> dict[str, str]:
     """``base`` (default: this process's environment) with the venv first on PATH, for the
     rules' ``cloth`` commands."""
     base = dict(os.environ if base is None else base)
-    return {**base, "PATH": f"{Path(sys.executable).parent}:{base.get('PATH', '')}",
-            "MPLBACKEND": "Agg"}  # fmt: skip
+    return {
+        **base,
+        "PATH": f"{Path(sys.executable).parent}:{base.get('PATH', '')}",
+        "MPLBACKEND": "Agg",
+    }
 
 
 def snakemake(

@@ -71,8 +71,11 @@ class Cluster:
         """(job id, name, state, comment) of the jobs in the queue."""
         out = subprocess.run(
             ["squeue", "--noheader", "--format=%i|%j|%T|%k"],
-            env=self.env, capture_output=True, text=True, check=True,
-        ).stdout  # fmt: skip
+            env=self.env,
+            capture_output=True,
+            text=True,
+            check=True,
+        ).stdout
         return [tuple(line.split("|")) for line in out.splitlines() if line.strip()]
 
     def stop(self) -> None:
@@ -151,10 +154,17 @@ def start(root: Path, cpus: int, memory_mb: int) -> Cluster:
             cluster.processes.append(process)
 
     try:
-        launch("/usr/sbin/munged", "--foreground", "--force", f"--key-file={key}",
-               f"--socket={munge_socket}", f"--pid-file={root / 'munge' / 'munged.pid'}",
-               f"--seed-file={root / 'munge' / 'seed'}", f"--log-file={log / 'munged.log'}",
-               name="munged")  # fmt: skip
+        launch(
+            "/usr/sbin/munged",
+            "--foreground",
+            "--force",
+            f"--key-file={key}",
+            f"--socket={munge_socket}",
+            f"--pid-file={root / 'munge' / 'munged.pid'}",
+            f"--seed-file={root / 'munge' / 'seed'}",
+            f"--log-file={log / 'munged.log'}",
+            name="munged",
+        )
         _wait(lambda: munge_socket.exists(), 10, "munged", log)
         launch("/usr/sbin/slurmctld", "-D", "-i", "-f", str(conf), name="slurmctld")
         launch("/usr/sbin/slurmd", "-D", "-N", NODE, "-f", str(conf), name="slurmd")
@@ -166,8 +176,9 @@ def start(root: Path, cpus: int, memory_mb: int) -> Cluster:
 
 
 def _idle(env: dict[str, str]) -> bool:
-    out = subprocess.run(["sinfo", "--noheader", "--format=%T"], env=env, capture_output=True,
-                         text=True)  # fmt: skip
+    out = subprocess.run(
+        ["sinfo", "--noheader", "--format=%T"], env=env, capture_output=True, text=True
+    )
     return out.returncode == 0 and out.stdout.strip() in ("idle", "mixed", "allocated")
 
 

@@ -26,12 +26,17 @@ from tests.pipeline import environment, workspace
 pytestmark = pytest.mark.cluster
 
 SLURM_ARGS = (
-    "--workflow-profile", "workflow/profiles/slurm",
-    "--slurm-status-command", "squeue",
-    "--slurm-init-seconds-before-status-checks", "2",
-    "--seconds-between-status-checks", "2",
-    "--latency-wait", "5",
-)  # fmt: skip
+    "--workflow-profile",
+    "workflow/profiles/slurm",
+    "--slurm-status-command",
+    "squeue",
+    "--slurm-init-seconds-before-status-checks",
+    "2",
+    "--seconds-between-status-checks",
+    "2",
+    "--latency-wait",
+    "5",
+)
 #: "Job 13 has been submitted with SLURM jobid 1 (log: .../slurm_logs/rule_write_case/...)"
 SUBMITTED = re.compile(r"submitted with SLURM jobid (\d+) \(log: \S*/slurm_logs/rule_([a-z_]+)/")
 
@@ -58,9 +63,13 @@ def cluster(tmp_path_factory):
 
 def on_slurm(cluster, where, *args, timeout=900) -> subprocess.CompletedProcess:
     return subprocess.run(
-        ["snakemake", *SLURM_ARGS, *args], cwd=where, capture_output=True, text=True,
-        env=environment(cluster.env), timeout=timeout,
-    )  # fmt: skip
+        ["snakemake", *SLURM_ARGS, *args],
+        cwd=where,
+        capture_output=True,
+        text=True,
+        env=environment(cluster.env),
+        timeout=timeout,
+    )
 
 
 def data(path) -> dict[str, np.ndarray]:
@@ -89,8 +98,17 @@ def test_the_tiny_pipeline_runs_through_slurm_as_it_runs_here(cluster, tiny_run,
     seconds = time.perf_counter() - start
     assert result.returncode == 0, result.stderr[-3000:]
     jobs = dict(SUBMITTED.findall(result.stdout + result.stderr))
-    assert {"ingest_material", "write_case", "predeform", "relax", "aggregate", "figures",
-            "sweep", "design", "confirm"} <= set(jobs.values())  # fmt: skip
+    assert {
+        "ingest_material",
+        "write_case",
+        "predeform",
+        "relax",
+        "aggregate",
+        "figures",
+        "sweep",
+        "design",
+        "confirm",
+    } <= set(jobs.values())
     record = {job["JobId"]: job for job in cluster.jobs()}
     for job_id, rule in jobs.items():
         assert record[job_id]["JobState"] == "COMPLETED", (rule, record[job_id])
@@ -99,15 +117,18 @@ def test_the_tiny_pipeline_runs_through_slurm_as_it_runs_here(cluster, tiny_run,
     assert any(name.startswith("design__") for name in cases)  # the confirmation case
     assert cases == sorted(p.parent.name for p in (where / "results/cases").glob("*/result.nc"))
     for name in cases:
-        assert_same_data(local / f"results/cases/{name}/result.nc",
-                         where / f"results/cases/{name}/result.nc")  # fmt: skip
+        assert_same_data(
+            local / f"results/cases/{name}/result.nc", where / f"results/cases/{name}/result.nc"
+        )
     assert_same_data(local / "results/sweep.nc", where / "results/sweep.nc")
     confirmed = "results/design_confirmed.csv"
     assert (where / confirmed).read_text() == (local / confirmed).read_text()
     again = on_slurm(cluster, where, "--configfile", "config/ci.yaml", "-n")
     assert "Nothing to be done" in again.stdout + again.stderr
-    print(f"\nlocal {local_seconds:.1f} s, SLURM {seconds:.1f} s for {len(jobs)} jobs: "
-          f"{(seconds - local_seconds) / len(jobs):.2f} s per job")  # fmt: skip
+    print(
+        f"\nlocal {local_seconds:.1f} s, SLURM {seconds:.1f} s for {len(jobs)} jobs: "
+        f"{(seconds - local_seconds) / len(jobs):.2f} s per job"
+    )
 
 
 def test_a_cancelled_relax_job_is_reported_and_a_rerun_completes(cluster, tmp_path):
@@ -120,9 +141,12 @@ def test_a_cancelled_relax_job_is_reported_and_a_rerun_completes(cluster, tmp_pa
     target = ("results/cases/tiny/relaxed.nc", "--configfile", "config/one.yaml")
     process = subprocess.Popen(
         ["snakemake", *SLURM_ARGS, "--retries", "0", *target],
-        cwd=where, env=environment(cluster.env), stdout=subprocess.PIPE,
-        stderr=subprocess.STDOUT, text=True,
-    )  # fmt: skip
+        cwd=where,
+        env=environment(cluster.env),
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+        text=True,
+    )
     cancelled = None
     deadline = time.monotonic() + 600
     while cancelled is None and time.monotonic() < deadline and process.poll() is None:

@@ -52,8 +52,14 @@ def test_continuation_reaches_the_same_equilibrium(body, grid, bottom, top, coar
     solid, _ = body_from_config(state.case.body.block)
     results = {}
     for continued in (False, True):
-        settings = Settings(tolerance=1e-10, max_iterations=60, progress=False, log_every=0,
-                            continuation=continued, coarsest=coarsest)  # fmt: skip
+        settings = Settings(
+            tolerance=1e-10,
+            max_iterations=60,
+            progress=False,
+            log_every=0,
+            continuation=continued,
+            coarsest=coarsest,
+        )
         results[continued] = relax(state, solid, settings)
         assert results[continued].converged
         assert_quadratic_tail(results[continued].history.residual)
@@ -103,8 +109,14 @@ def test_reusing_factorisations_reaches_the_same_equilibrium(
     solid, _ = body_from_config(state.case.body.block)
     results = {}
     for reuse in (False, True):
-        settings = Settings(tolerance=1e-10, max_iterations=60, progress=False, log_every=0,
-                            linear_solver="superlu", reuse=reuse)  # fmt: skip
+        settings = Settings(
+            tolerance=1e-10,
+            max_iterations=60,
+            progress=False,
+            log_every=0,
+            linear_solver="superlu",
+            reuse=reuse,
+        )
         results[reuse] = relax(state, solid, settings)
         assert results[reuse].converged
         assert_quadratic_tail(results[reuse].history.residual)

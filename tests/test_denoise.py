@@ -27,8 +27,9 @@ def curvature_estimate(vertices, faces):
     ).tocsr()
     degree = np.asarray(adjacency.sum(axis=1)).ravel()
     squared = np.bincount(edges.ravel(), np.repeat(mesh.edges_unique_length**2, 2), count)
-    offset = np.einsum("ij,ij->i", adjacency @ vertices / degree[:, None] - vertices,
-                       mesh.vertex_normals)  # fmt: skip
+    offset = np.einsum(
+        "ij,ij->i", adjacency @ vertices / degree[:, None] - vertices, mesh.vertex_normals
+    )
     return 2 * offset / (squared / degree)
 
 

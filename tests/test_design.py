@@ -44,21 +44,30 @@ TARGETS = {"low": 12.0, "middle": 20.0, "high": 15.0}
 def _soft_warp(folder: Path) -> Path:
     """powernet's weft with a warp of 1 kPa: the rows barely pull on each other."""
     powernet = load_fabric("powernet", ROOT)
-    fabric = Fabric("powernet, soft warp", powernet.weft, StressStrainCurve.linear(1.0e3),
-                    powernet.thickness)  # fmt: skip
+    fabric = Fabric(
+        "powernet, soft warp", powernet.weft, StressStrainCurve.linear(1.0e3), powernet.thickness
+    )
     return write_netcdf(material_dataset(Material(fabric)), folder / "soft.nc")
 
 
 def _cylinder_design(material: str, lengthwise: float):
     case = {
-        "material": material, "body": {"cylinder": {"radius": RADIUS}}, "landmarks": LINES,
-        "garment": {"bottom": 0.1, "top": 0.4, "grid": [N, 13], "reduction": 0.2,
-                    "lengthwise_reduction": lengthwise, "error_estimate": False},
+        "material": material,
+        "body": {"cylinder": {"radius": RADIUS}},
+        "landmarks": LINES,
+        "garment": {
+            "bottom": 0.1,
+            "top": 0.4,
+            "grid": [N, 13],
+            "reduction": 0.2,
+            "lengthwise_reduction": lengthwise,
+            "error_estimate": False,
+        },
         "solver": {"tolerance": 1.0e-12},
         # a band within the line's own row's span (rows 2.5 cm apart): the row's pressure alone,
         # so that Laplace's law row by row is the answer (a 2 cm band mixes graded rows)
         "girth_reading": {"half_width": 0.01},
-    }  # fmt: skip
+    }
     state = initial_state(case, ROOT)
     targets = [Target(line, p * MMHG) for line, p in TARGETS.items()]
     return design(state, body_from_record(state.body), targets, tolerance=0.01 * MMHG)
@@ -108,11 +117,23 @@ def _warp_strain(result) -> np.ndarray:
 
 
 def _run_design(folder: Path, grid: list[int], targets: list[str]) -> subprocess.CompletedProcess:
-    case = {"material": "powernet", "body": {"torso": {"size": "M"}},
-            "garment": {"bottom": 0.86, "top": 1.22, "grid": grid, "reduction": 0.2}}  # fmt: skip
+    case = {
+        "material": "powernet",
+        "body": {"torso": {"size": "M"}},
+        "garment": {"bottom": 0.86, "top": 1.22, "grid": grid, "reduction": 0.2},
+    }
     (folder / "case.yaml").write_text(yaml.safe_dump(case))
-    command = [sys.executable, "-m", "cloth", "--log-level", "ERROR", "design",
-               str(folder / "case.yaml"), "-o", str(folder / "out")]  # fmt: skip
+    command = [
+        sys.executable,
+        "-m",
+        "cloth",
+        "--log-level",
+        "ERROR",
+        "design",
+        str(folder / "case.yaml"),
+        "-o",
+        str(folder / "out"),
+    ]
     command += [f"--target={t}" for t in targets]
     return subprocess.run(command, capture_output=True, text=True, cwd=ROOT)
 
@@ -158,9 +179,13 @@ def test_an_unreachable_target_is_one_line_and_the_best_pattern_is_written(tmp_p
 
 @pytest.mark.parametrize(
     ("text", "pressure"),
-    [("waist=20", 20 * MMHG), ("hip=2.0kPa", 2000.0), ("bust=1500Pa", 1500.0),
-     ("a=1.5e1mmHg", 15 * MMHG)],
-)  # fmt: skip
+    [
+        ("waist=20", 20 * MMHG),
+        ("hip=2.0kPa", 2000.0),
+        ("bust=1500Pa", 1500.0),
+        ("a=1.5e1mmHg", 15 * MMHG),
+    ],
+)
 def test_targets_read_in_mmhg_kpa_or_pa(text, pressure):
     target = Target.parse(text)
     assert target.pressure == pytest.approx(pressure)
@@ -176,10 +201,11 @@ def test_a_bad_target_is_one_line(tmp_path, text):
 def test_a_design_on_soft_tissue_is_refused_before_any_equilibrium():
     """The adjoint takes a rigid smooth body: tissue is named in one line, nothing solved."""
     case = {
-        "material": "powernet", "landmarks": LINES,
+        "material": "powernet",
+        "landmarks": LINES,
         "body": {"cylinder": {"radius": RADIUS}, "tissue": {"thickness": 0.01, "modulus": 2e4}},
         "garment": {"bottom": 0.1, "top": 0.4, "grid": [12, 5], "reduction": 0.2},
-    }  # fmt: skip
+    }
     state = initial_state(case, ROOT)
     with pytest.raises(InputError, match=r"body\.tissue"):
         design(state, body_from_record(state.body), [Target("middle", 20 * MMHG)])
@@ -189,11 +215,17 @@ def test_a_target_at_a_height_becomes_a_girth_line(tmp_path):
     """A target profile over height (``0.25=20``): the line at 0.25 m joins the case's lines
     and gets Laplace's reduction, as a named one does."""
     case = {
-        "material": str(_soft_warp(tmp_path)), "body": {"cylinder": {"radius": RADIUS}},
-        "garment": {"bottom": 0.1, "top": 0.4, "grid": [N, 13], "reduction": 0.2,
-                    "error_estimate": False},
+        "material": str(_soft_warp(tmp_path)),
+        "body": {"cylinder": {"radius": RADIUS}},
+        "garment": {
+            "bottom": 0.1,
+            "top": 0.4,
+            "grid": [N, 13],
+            "reduction": 0.2,
+            "error_estimate": False,
+        },
         "solver": {"tolerance": 1.0e-12},
-    }  # fmt: skip
+    }
     state = initial_state(case, ROOT)
     result = design(state, body_from_record(state.body), [Target.parse("0.25=20")], 0.01 * MMHG)
     assert result.lines == ("0.25",) and result.state.case.landmarks == {"0.25": 0.25}

@@ -30,11 +30,13 @@ def strip(arc_nodes=100, straight=0.1, pretension=0.05):
     spacing = np.pi * RADIUS / arc_nodes
     count = round(straight / spacing)
     angle = np.linspace(0.0, np.pi, arc_nodes + 1)
-    path = np.concatenate([
-        np.column_stack([np.full(count, RADIUS), -spacing * np.arange(count, 0, -1)]),
-        RADIUS * np.column_stack([np.cos(angle), np.sin(angle)]),
-        np.column_stack([np.full(count, -RADIUS), -spacing * np.arange(1, count + 1)]),
-    ])  # fmt: skip
+    path = np.concatenate(
+        [
+            np.column_stack([np.full(count, RADIUS), -spacing * np.arange(count, 0, -1)]),
+            RADIUS * np.column_stack([np.cos(angle), np.sin(angle)]),
+            np.column_stack([np.full(count, -RADIUS), -spacing * np.arange(1, count + 1)]),
+        ]
+    )
     n = len(path)
     length = float(np.linalg.norm(np.diff(path, axis=0), axis=1).sum())
     curve = StressStrainCurve.linear(1e6)
@@ -48,8 +50,9 @@ def strip(arc_nodes=100, straight=0.1, pretension=0.05):
 
 def relaxed(grid, x, constraint, fabric, mu):
     skin = Skin(contact=Contact(friction=mu))  # a hand-built state: no case, only its skin
-    state = State(grid, x, constraint, np.zeros(len(x), np.int8), fabric, "weft", None, {},
-                  skin=skin)  # fmt: skip
+    state = State(
+        grid, x, constraint, np.zeros(len(x), np.int8), fabric, "weft", None, {}, skin=skin
+    )
     body, _ = body_from_config(CYLINDER)
     result = relax(state, body, SETTINGS)
     assert result.converged
@@ -96,8 +99,11 @@ def test_a_strip_over_a_half_cylinder_holds_until_the_capstan_ratio(mu, pulls):
 
 
 def test_zero_friction_is_the_frictionless_solver_bit_for_bit():
-    case = {"material": "powernet", "body": CYLINDER,
-            "garment": {"bottom": 0.1, "top": 0.4, "reduction": 0.2, "grid": [24, 4]}}  # fmt: skip
+    case = {
+        "material": "powernet",
+        "body": CYLINDER,
+        "garment": {"bottom": 0.1, "top": 0.4, "reduction": 0.2, "grid": [24, 4]},
+    }
     body, _ = body_from_config(CYLINDER)
     plain = relax(initial_state(case), body, SETTINGS)
     zero = relax(initial_state({**case, "contact": {"friction": 0.0}}), body, SETTINGS)
@@ -108,8 +114,11 @@ def test_zero_friction_is_the_frictionless_solver_bit_for_bit():
 def test_friction_leaves_laplaces_pressure_on_a_cylinder():
     """The wrapped tube is already a frictionless equilibrium: friction carries nothing and the
     pressure stays T / r."""
-    case = {"material": "powernet", "body": CYLINDER,
-            "garment": {"bottom": 0.1, "top": 0.4, "reduction": 0.2, "grid": [48, 4]}}  # fmt: skip
+    case = {
+        "material": "powernet",
+        "body": CYLINDER,
+        "garment": {"bottom": 0.1, "top": 0.4, "reduction": 0.2, "grid": [48, 4]},
+    }
     body, _ = body_from_config(CYLINDER)
 
     def pressure(result):
@@ -148,19 +157,28 @@ def test_the_friction_hessian_is_the_potentials():
             minus[node, axis] -= step
             column = -(friction.response(plus)[0] - friction.response(minus)[0]) / (2 * step)
             np.testing.assert_allclose(
-                k_skin[:, 3 * node + axis].toarray().ravel(), column.ravel(),
-                rtol=1e-4, atol=1e-6 * max(np.abs(column).max(), 1.0),
-            )  # fmt: skip
+                k_skin[:, 3 * node + axis].toarray().ravel(),
+                column.ravel(),
+                rtol=1e-4,
+                atol=1e-6 * max(np.abs(column).max(), 1.0),
+            )
 
 
 @pytest.mark.parametrize(
     ("contact", "field"),
-    [({"friction": -0.1}, "contact.friction"), ({"friction": float("nan")}, "contact.friction"),
-     ({"friction": 0.3, "slip_length": 0.0}, "contact.slip_length")],
-)  # fmt: skip
+    [
+        ({"friction": -0.1}, "contact.friction"),
+        ({"friction": float("nan")}, "contact.friction"),
+        ({"friction": 0.3, "slip_length": 0.0}, "contact.slip_length"),
+    ],
+)
 def test_bad_friction_is_refused_naming_the_field(contact, field):
-    case = {"material": "powernet", "body": CYLINDER, "contact": contact,
-            "garment": {"bottom": 0.1, "top": 0.4, "reduction": 0.2, "grid": [12, 3]}}  # fmt: skip
+    case = {
+        "material": "powernet",
+        "body": CYLINDER,
+        "contact": contact,
+        "garment": {"bottom": 0.1, "top": 0.4, "reduction": 0.2, "grid": [12, 3]},
+    }
     body, _ = body_from_config(CYLINDER)
     with pytest.raises(InputError) as error:
         relax(initial_state(case), body, SETTINGS)
@@ -168,8 +186,12 @@ def test_bad_friction_is_refused_naming_the_field(contact, field):
 
 
 def test_friction_needs_newton_and_the_wrap_as_its_path():
-    case = {"material": "powernet", "body": CYLINDER, "contact": {"friction": 0.3},
-            "garment": {"bottom": 0.1, "top": 0.4, "reduction": 0.2, "grid": [12, 3]}}  # fmt: skip
+    case = {
+        "material": "powernet",
+        "body": CYLINDER,
+        "contact": {"friction": 0.3},
+        "garment": {"bottom": 0.1, "top": 0.4, "reduction": 0.2, "grid": [12, 3]},
+    }
     body, _ = body_from_config(CYLINDER)
     state = initial_state(case)
     with pytest.raises(InputError, match="newton"):

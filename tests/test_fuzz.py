@@ -31,9 +31,12 @@ COUNTS = [pytest.param(30, id="30"), pytest.param(200, id="200", marks=pytest.ma
 
 def _settings(count: int):
     return settings(
-        max_examples=count, deadline=None, derandomize=True, database=None,
+        max_examples=count,
+        deadline=None,
+        derandomize=True,
+        database=None,
         suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large],
-    )  # fmt: skip
+    )
 
 
 def run_cloth(*args: str) -> tuple[int, str]:
@@ -106,8 +109,10 @@ def test_a_corrupted_lab_table_is_ingested_or_refused_in_one_line(count):
 def mesh_text(tmp_path_factory) -> str:
     """A small torso as an ASCII OBJ (16 points around, 12 rings)."""
     path = tmp_path_factory.mktemp("mesh") / "torso.obj"
-    assert main(["body", "torso", "--size", "M", "--around", "16", "--rings", "12", "-o",
-                 str(path)]) == 0  # fmt: skip
+    assert (
+        main(["body", "torso", "--size", "M", "--around", "16", "--rings", "12", "-o", str(path)])
+        == 0
+    )
     return path.read_text()
 
 
@@ -136,8 +141,9 @@ def test_a_non_finite_solver_number_is_refused_before_any_file(tmp_path):
     started, after initial.nc was written."""
     case = {**TINY, "solver": {"tolerance": float("inf")}}
     (tmp_path / "case.yaml").write_text(yaml.safe_dump(case))
-    code, err = run_cloth("run", str(tmp_path / "case.yaml"), "-o", str(tmp_path / "out"),
-                          "--base-dir", str(ROOT))  # fmt: skip
+    code, err = run_cloth(
+        "run", str(tmp_path / "case.yaml"), "-o", str(tmp_path / "out"), "--base-dir", str(ROOT)
+    )
     assert code == 2 and "solver.tolerance" in err and "finite" in err
     assert not (tmp_path / "out").exists()
 
@@ -147,8 +153,9 @@ def test_a_material_name_too_long_for_a_path_is_refused_in_one_line(tmp_path):
     status 1."""
     case = {**TINY, "material": "x" * 5000}
     (tmp_path / "case.yaml").write_text(yaml.safe_dump(case))
-    code, err = run_cloth("run", str(tmp_path / "case.yaml"), "-o", str(tmp_path / "out"),
-                          "--base-dir", str(ROOT))  # fmt: skip
+    code, err = run_cloth(
+        "run", str(tmp_path / "case.yaml"), "-o", str(tmp_path / "out"), "--base-dir", str(ROOT)
+    )
     assert code == 2 and len(err.strip().splitlines()) == 1 and "material" in err
     assert len(err) < 400 and not (tmp_path / "out").exists()
 
@@ -165,8 +172,7 @@ def test_an_output_folder_that_cannot_be_is_refused_before_any_work(tmp_path, ma
     make(tmp_path)
     (tmp_path / "case.yaml").write_text(yaml.safe_dump(TINY))
     target = str(tmp_path / output) if output else ""
-    code, err = run_cloth("run", str(tmp_path / "case.yaml"), "-o", target, "--base-dir",
-                          str(ROOT))  # fmt: skip
+    code, err = run_cloth("run", str(tmp_path / "case.yaml"), "-o", target, "--base-dir", str(ROOT))
     assert code == 2 and "output" in err and says in err and len(err.strip().splitlines()) == 1
 
 
@@ -181,8 +187,9 @@ def test_an_output_folder_that_cannot_be_is_refused_before_any_work(tmp_path, ma
 def test_a_case_path_is_checked_as_a_path(tmp_path, body, field, says):
     case = {**TINY, "body": body}
     (tmp_path / "case.yaml").write_text(yaml.safe_dump(case))
-    code, err = run_cloth("run", str(tmp_path / "case.yaml"), "-o", str(tmp_path / "out"),
-                          "--base-dir", str(ROOT))  # fmt: skip
+    code, err = run_cloth(
+        "run", str(tmp_path / "case.yaml"), "-o", str(tmp_path / "out"), "--base-dir", str(ROOT)
+    )
     assert code == 2 and field in err and says in err and not (tmp_path / "out").exists()
 
 

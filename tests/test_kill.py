@@ -82,15 +82,20 @@ def test_a_run_killed_in_any_stage_leaves_whole_files_and_resumes(tmp_path, stag
     function, written = STAGES[stage]
     kind, name = ("stage", function) if at == "start" else ("file", written)
     args = ["--log-level", "WARNING", "run", str(case), "-o", str(out), "--base-dir", str(ROOT)]
-    killed = subprocess.run([sys.executable, "-c", CHILD, kind, name, *args],
-                            capture_output=True, text=True, timeout=300)  # fmt: skip
+    killed = subprocess.run(
+        [sys.executable, "-c", CHILD, kind, name, *args],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
     assert killed.returncode == -signal.SIGKILL, killed.stderr[-2000:]
     left = _published(out) if out.exists() else []
     assert written not in {p.name for p in left}  # the killed stage published nothing
     for path in left:
         _complete(path)
-    again = subprocess.run([sys.executable, "-m", "cloth", *args], capture_output=True,
-                           text=True, timeout=300)  # fmt: skip
+    again = subprocess.run(
+        [sys.executable, "-m", "cloth", *args], capture_output=True, text=True, timeout=300
+    )
     assert again.returncode == 0, again.stderr[-2000:]
     names = {p.name for p in _published(out)}
     assert {"initial.nc", "relaxed.nc", "result.nc", "summary.csv", "stress_weft.png"} <= names

@@ -90,9 +90,22 @@ def test_a_bad_chart_is_one_line_naming_the_size_and_the_point(tmp_path, change,
     chart = _bad_chart(tmp_path, change)
     output = tmp_path / "leg.ply"
     done = subprocess.run(
-        [sys.executable, "-m", "cloth", "body", "leg", "--size", "M", "--chart", str(chart),
-         "-o", str(output)], capture_output=True, text=True,
-    )  # fmt: skip
+        [
+            sys.executable,
+            "-m",
+            "cloth",
+            "body",
+            "leg",
+            "--size",
+            "M",
+            "--chart",
+            str(chart),
+            "-o",
+            str(output),
+        ],
+        capture_output=True,
+        text=True,
+    )
     assert done.returncode == 2, done.stderr
     lines = done.stderr.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("cloth: error: ") and words in lines[0]
@@ -118,10 +131,17 @@ def test_a_stocking_on_a_circular_leg_is_laplace_row_by_row(tmp_path):
     chart = tmp_path / "round.csv"
     chart.write_text("\n".join([lines[0], *(",".join(r[c] for c in header) for r in rows)]))
     case = {
-        "material": "powernet", "body": {"leg": {"size": "M", "chart": str(chart)}},
-        "garment": {"bottom": 0.09, "top": 0.75, "grid": [48, 80], "reduction": 0.25,
-                    "lengthwise_reduction": 0.15, "error_estimate": False},
-    }  # fmt: skip
+        "material": "powernet",
+        "body": {"leg": {"size": "M", "chart": str(chart)}},
+        "garment": {
+            "bottom": 0.09,
+            "top": 0.75,
+            "grid": [48, 80],
+            "reduction": 0.25,
+            "lengthwise_reduction": 0.15,
+            "error_estimate": False,
+        },
+    }
     ds = load_result(tmp_path / "run", case)
     assert ds.attrs["converged"] == 1
     girth = _profiles(leg_size("M", chart))[0]
@@ -131,10 +151,13 @@ def test_a_stocking_on_a_circular_leg_is_laplace_row_by_row(tmp_path):
     bend = girth.derivative(2)(z) / (2 * np.pi)
     cos_alpha = 1.0 / np.sqrt(1.0 + slope**2)
     meridian = -bend / (1.0 + slope**2) ** 1.5
-    mean = {k: ds[k].values.mean(axis=1) for k in ("tension_weft", "tension_warp", "strain_weft",
-                                                   "strain_warp", "pressure")}  # fmt: skip
-    laplace = (mean["tension_weft"] * cos_alpha / (r * (1 + mean["strain_warp"]))
-               + mean["tension_warp"] * meridian / (1 + mean["strain_weft"]))  # fmt: skip
+    mean = {
+        k: ds[k].values.mean(axis=1)
+        for k in ("tension_weft", "tension_warp", "strain_weft", "strain_warp", "pressure")
+    }
+    laplace = mean["tension_weft"] * cos_alpha / (r * (1 + mean["strain_warp"])) + mean[
+        "tension_warp"
+    ] * meridian / (1 + mean["strain_weft"])
     inner = slice(3, -3)
     np.testing.assert_allclose(mean["pressure"][inner], laplace[inner], rtol=1e-2)
     # Laplace's 1/r: the hoop's share of the pressure per unit hoop tension, at B and at F
@@ -154,8 +177,10 @@ def test_a_leg_given_point_by_point_is_the_chart_s_leg(tmp_path):
     from cloth.errors import InputError
 
     m = leg_size("M")
-    given = {"circumference_cm": {p: 100 * m.girth[p] for p in POINTS},
-             "height_cm": {p: 100 * m.height[p] for p in POINTS}}  # fmt: skip
+    given = {
+        "circumference_cm": {p: 100 * m.girth[p] for p in POINTS},
+        "height_cm": {p: 100 * m.height[p] for p in POINTS},
+    }
     leg = leg_of(given)
     assert leg.girth == pytest.approx(m.girth) and leg.height == pytest.approx(m.height)
     assert SmoothLeg(leg).girth(m.height["C"])[0] == pytest.approx(m.girth["C"], abs=1e-9)
@@ -185,10 +210,12 @@ def test_a_leaning_leg_has_exact_derivatives_and_the_chart_s_girths():
         dq = np.zeros(3)
         dq[axis] = step
         plus, minus = leg.implicit(q + dq), leg.implicit(q - dq)
-        np.testing.assert_allclose(g[:, axis], (plus[0] - minus[0]) / (2 * step),
-                                   atol=1e-6 * np.abs(g).max())  # fmt: skip
-        np.testing.assert_allclose(h[:, :, axis], (plus[1] - minus[1]) / (2 * step),
-                                   atol=1e-6 * np.abs(h).max())  # fmt: skip
+        np.testing.assert_allclose(
+            g[:, axis], (plus[0] - minus[0]) / (2 * step), atol=1e-6 * np.abs(g).max()
+        )
+        np.testing.assert_allclose(
+            h[:, :, axis], (plus[1] - minus[1]) / (2 * step), atol=1e-6 * np.abs(h).max()
+        )
     normal = g / np.linalg.norm(g, axis=1, keepdims=True)
     along = p - q
     np.testing.assert_allclose(np.cross(along, normal), 0.0, atol=1e-9)

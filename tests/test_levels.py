@@ -33,10 +33,18 @@ def _cone(folder: Path, grid: list[int], estimate: bool = True, stop: str = "agg
     """A tube on a cone, its warp stretched (lengthwise reduction 0.1) so that no fabric is
     compressed: one stable equilibrium, every row its own radius and pressure."""
     case = {
-        "material": "powernet", "body": CONE, "landmarks": LINES,
-        "garment": {"bottom": 0.1, "top": 0.4, "reduction": 0.15, "lengthwise_reduction": 0.1,
-                    "grid": grid, "error_estimate": estimate},
-    }  # fmt: skip
+        "material": "powernet",
+        "body": CONE,
+        "landmarks": LINES,
+        "garment": {
+            "bottom": 0.1,
+            "top": 0.4,
+            "reduction": 0.15,
+            "lengthwise_reduction": 0.1,
+            "grid": grid,
+            "error_estimate": estimate,
+        },
+    }
     return run_result(folder, case, stop)
 
 
@@ -84,8 +92,9 @@ def test_the_result_lists_its_levels_with_units_and_the_summary_says_the_error(c
     assert "flag_meanings" in ds["pressure_mean_estimate"].attrs
     with open(cones["summary"], newline="") as handle:
         rows = list(csv.DictReader(handle))
-    for row, error, value in zip(rows, ds["pressure_mean_error"].values,
-                                 ds["pressure_mean"].values, strict=True):  # fmt: skip
+    for row, error, value in zip(
+        rows, ds["pressure_mean_error"].values, ds["pressure_mean"].values, strict=True
+    ):
         assert float(row["pressure_mean_error_Pa"]) == pytest.approx(error, rel=1e-5)
         assert float(row["pressure_mean_error_percent"]) == pytest.approx(
             100 * error / value, rel=1e-5
@@ -103,8 +112,9 @@ def test_levels_that_do_not_converge_monotonically_give_no_error_number(tmp_path
         fine = ds["pressure_mean"].values
     zigzag = relaxed["level_pressure_mean"].values.copy()
     zigzag[0] = fine + 2 * (fine - zigzag[1])  # middle beyond fine, coarse on the other side
-    write_netcdf(relaxed.assign(level_pressure_mean=(("level", "landmark"), zigzag)),
-                 out / "zigzag.nc")  # fmt: skip
+    write_netcdf(
+        relaxed.assign(level_pressure_mean=(("level", "landmark"), zigzag)), out / "zigzag.nc"
+    )
     result = write_result(out / "zigzag.nc", out / "result.nc", out / "summary.csv")
     assert (result["pressure_mean_estimate"].values == 4).all()  # not_monotone
     assert np.isnan(result["pressure_mean_error"].values).all()
@@ -126,10 +136,17 @@ def test_without_levels_the_result_says_the_error_was_not_estimated(tmp_path):
 
 def _cylinder_auto(folder: Path, accuracy: float, max_nodes: int) -> xr.Dataset:
     case = {
-        "material": "powernet", "body": {"cylinder": {"radius": 0.1}},
-        "garment": {"bottom": 0.1, "top": 0.4, "reduction": 0.2, "grid": "auto",
-                    "accuracy": accuracy, "max_nodes": max_nodes},
-    }  # fmt: skip
+        "material": "powernet",
+        "body": {"cylinder": {"radius": 0.1}},
+        "garment": {
+            "bottom": 0.1,
+            "top": 0.4,
+            "reduction": 0.2,
+            "grid": "auto",
+            "accuracy": accuracy,
+            "max_nodes": max_nodes,
+        },
+    }
     return load_result(folder, case)
 
 
@@ -171,8 +188,11 @@ def test_an_automatic_grid_stops_at_its_node_cap_and_says_so(tmp_path, caplog):
     ],
 )
 def test_an_automatic_grid_asked_wrongly_gets_one_line_naming_the_field(garment, field, words):
-    case = {"material": "powernet", "body": CONE,
-            "garment": {"bottom": 0.1, "top": 0.4, "reduction": 0.15, **garment}}  # fmt: skip
+    case = {
+        "material": "powernet",
+        "body": CONE,
+        "garment": {"bottom": 0.1, "top": 0.4, "reduction": 0.15, **garment},
+    }
     with pytest.raises(InputError) as caught:
         validate_case(case, "case.yaml")
     assert caught.value.field == field and words in caught.value.detail
@@ -198,19 +218,27 @@ def test_a_ring_meshs_vertical_sampling_is_its_ring_spacing():
     assert mesh_spacing(tube_v, tube_f, np.array([0.25, 0.26]))[1] == pytest.approx(gap)
     assert np.isnan(mesh_spacing(tube_v, tube_f, np.array([0.9]))[0])
     rows = np.array([0.0, 0.1, 0.3, 0.6])
-    np.testing.assert_allclose(row_spacing(rows, np.array([0.05, 0.1, 0.5, 0.6])),
-                               [0.1, 0.2, 0.3, 0.3])  # fmt: skip
+    np.testing.assert_allclose(
+        row_spacing(rows, np.array([0.05, 0.1, 0.5, 0.6])), [0.1, 0.2, 0.3, 0.3]
+    )
 
 
 def test_a_rerun_is_bit_identical(tmp_path):
     """The same case run twice (with its levels, continuation from 100 nodes and factor reuse,
     so every path of the estimate runs) writes the same numbers to the last bit."""
     case = {
-        "material": "powernet", "body": CONE, "landmarks": LINES,
-        "garment": {"bottom": 0.1, "top": 0.4, "reduction": 0.15, "lengthwise_reduction": 0.1,
-                    "grid": [48, 12]},
+        "material": "powernet",
+        "body": CONE,
+        "landmarks": LINES,
+        "garment": {
+            "bottom": 0.1,
+            "top": 0.4,
+            "reduction": 0.15,
+            "lengthwise_reduction": 0.1,
+            "grid": [48, 12],
+        },
         "solver": {"continuation": True, "coarsest": 100, "reuse": True},
-    }  # fmt: skip
+    }
     first, second = (load_result(tmp_path / name, case) for name in ("one", "two"))
     assert first["level_n"].values.tolist() == [48, 24, 12]
     for name, variable in first.data_vars.items():

@@ -16,11 +16,17 @@ pytestmark = pytest.mark.slow
 
 def _torso(folder: Path, grid: list[int], estimate: bool) -> xr.Dataset:
     case = {
-        "material": "powernet", "body": {"torso": {"size": "M"}},
-        "garment": {"bottom": 0.86, "top": 1.22, "reduction": 0.20, "grid": grid,
-                    "error_estimate": estimate},
+        "material": "powernet",
+        "body": {"torso": {"size": "M"}},
+        "garment": {
+            "bottom": 0.86,
+            "top": 1.22,
+            "reduction": 0.20,
+            "grid": grid,
+            "error_estimate": estimate,
+        },
         "solver": {"method": "newton", "continuation": True, "reuse": True},
-    }  # fmt: skip
+    }
     return load_result(folder, case)
 
 

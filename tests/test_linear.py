@@ -131,8 +131,14 @@ def test_cholmod_with_reuse_reaches_superlus_equilibrium():
     solid, _ = body_from_config(state.case.body.block)
     results = {}
     for name, reuse in (("superlu", False), ("cholmod", False), ("cholmod", True)):
-        settings = Settings(tolerance=1e-10, max_iterations=60, progress=False, log_every=0,
-                            linear_solver=name, reuse=reuse)  # fmt: skip
+        settings = Settings(
+            tolerance=1e-10,
+            max_iterations=60,
+            progress=False,
+            log_every=0,
+            linear_solver=name,
+            reuse=reuse,
+        )
         results[name, reuse] = relax(state, solid, settings)
         assert results[name, reuse].converged
     assert results["cholmod", True].factorisations < results["cholmod", False].factorisations
@@ -178,15 +184,16 @@ def test_newton_on_cholmod_keeps_the_exact_hessians_quadratic_convergence(caplog
     from cloth.stages.case import initial_state
     from tests.conftest import assert_quadratic_tail
 
-    garment = {"bottom": 0.80, "top": 1.25, "reduction": 0.25, "grid": [48, 24],
-               "edges": "sliding"}  # fmt: skip
-    state = initial_state({"material": "powernet", "body": {"torso": {"size": "S"}},
-                       "garment": garment})  # fmt: skip
+    garment = {"bottom": 0.80, "top": 1.25, "reduction": 0.25, "grid": [48, 24], "edges": "sliding"}
+    state = initial_state(
+        {"material": "powernet", "body": {"torso": {"size": "S"}}, "garment": garment}
+    )
     solid, _ = body_from_config(state.case.body.block)
     results = {}
     for name in ("superlu", "cholmod"):
-        settings = Settings(tolerance=1e-10, max_iterations=40, progress=False, log_every=0,
-                            linear_solver=name)  # fmt: skip
+        settings = Settings(
+            tolerance=1e-10, max_iterations=40, progress=False, log_every=0, linear_solver=name
+        )
         with caplog.at_level("WARNING", logger="cloth.solvers.linear"):
             results[name] = relax(state, solid, settings)
         assert results[name].converged

@@ -43,9 +43,14 @@ def result(request, tmp_path_factory):
     case = {
         "material": "powernet",
         "body": body,
-        "garment": {"bottom": bottom, "top": top, "reduction": 0.15, "grid": [32, 6],
-                    "edges": "sliding"},
-    }  # fmt: skip
+        "garment": {
+            "bottom": bottom,
+            "top": top,
+            "reduction": 0.15,
+            "grid": [32, 6],
+            "edges": "sliding",
+        },
+    }
     state = initial_state(case, tmp)
     iterations = 8 if request.param == "mesh" else 60  # faceted: converged or not, it draws
     path = relaxed_file(tmp, state, solve(state, tolerance=1e-8, iterations=iterations))
@@ -94,8 +99,12 @@ def test_the_cylinders_body_is_its_surface_and_the_quads_carry_the_corner_means(
     np.testing.assert_allclose(np.hypot(vertices[:, 0], vertices[:, 1]), 0.1, rtol=1e-12)
     assert np.hypot(ds["x"].values, ds["y"].values).min() > 0.1 - 1e-6
     p = ds["pressure_mmHg"].values
-    corners = (p[:-1, :-1] + np.roll(p, -1, axis=1)[:-1, :-1] + p[1:, :-1]
-               + np.roll(p, -1, axis=1)[1:, :-1]) / 4  # fmt: skip
+    corners = (
+        p[:-1, :-1]
+        + np.roll(p, -1, axis=1)[:-1, :-1]
+        + p[1:, :-1]
+        + np.roll(p, -1, axis=1)[1:, :-1]
+    ) / 4
     quads, values = visible_quads(ds, "pressure_mmHg", 1.0, 0.0)
     assert len(quads) >= corners.size / 3
     assert np.all(np.min(np.abs(values[:, None] - corners.ravel()[None]), axis=1) < 1e-12)

@@ -28,10 +28,19 @@ LINES = {"waist": 0.25}
 
 def _case(reduction, grid=(24, 11), **garment) -> dict:
     return {
-        "material": "powernet", "body": {"cylinder": {"radius": RADIUS}}, "landmarks": LINES,
-        "garment": {"bottom": 0.1, "top": 0.4, "reduction": reduction, "grid": list(grid),
-                    "lengthwise_reduction": 0.1, "error_estimate": False, **garment},
-    }  # fmt: skip
+        "material": "powernet",
+        "body": {"cylinder": {"radius": RADIUS}},
+        "landmarks": LINES,
+        "garment": {
+            "bottom": 0.1,
+            "top": 0.4,
+            "reduction": reduction,
+            "grid": list(grid),
+            "lengthwise_reduction": 0.1,
+            "error_estimate": False,
+            **garment,
+        },
+    }
 
 
 @pytest.fixture(scope="module")
@@ -144,9 +153,20 @@ def test_pattern_files_agree_at_one_to_one_in_mm(graded, tmp_path, cut):
 def test_pattern_cli_refuses_a_bad_format_and_writes_nothing(graded, tmp_path):
     folder, _ = graded
     done = subprocess.run(
-        [sys.executable, "-m", "cloth", "pattern", str(folder / "out" / "result.nc"), "-o",
-         str(tmp_path / "p.csv"), "--formats", "csv", "pdf"],
-        capture_output=True, text=True,
-    )  # fmt: skip
+        [
+            sys.executable,
+            "-m",
+            "cloth",
+            "pattern",
+            str(folder / "out" / "result.nc"),
+            "-o",
+            str(tmp_path / "p.csv"),
+            "--formats",
+            "csv",
+            "pdf",
+        ],
+        capture_output=True,
+        text=True,
+    )
     assert done.returncode == 2 and "--formats" in done.stderr
     assert len(done.stderr.strip().splitlines()) == 1 and not list(tmp_path.iterdir())

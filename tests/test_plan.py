@@ -110,8 +110,10 @@ def test_files_are_found_where_given_else_beside_the_workflow(tmp_path, monkeypa
     assert data_path("nowhere.csv", ROOT) == "nowhere.csv"  # left for the rule to report
     body = local_body({"mesh": "scans/me.obj", "units": "mm"}, "me", ROOT)
     assert body["surface_file"] == "results/bodies/me.surface.nc"
-    assert local_body({"mesh": "m.obj", "surface": "mesh"}, "m") == {"mesh": "m.obj",
-                                                                     "surface": "mesh"}  # fmt: skip
+    assert local_body({"mesh": "m.obj", "surface": "mesh"}, "m") == {
+        "mesh": "m.obj",
+        "surface": "mesh",
+    }
     assert body_files(_on(body)) == ["scans/me.obj", "results/bodies/me.surface.nc"]
     assert Path(body_files(_on({"torso": {"size": "M"}}))[0]).is_file()  # the chart
     assert make_plan(CONFIG, ROOT).material_tables("powernet") == [table]  # the user's, here
@@ -139,8 +141,9 @@ def test_a_non_finite_config_number_is_refused_but_a_rigid_tissue_modulus_is_not
         (lambda c: c["bodies"]["torso_M"]["torso"].update(chart="no.csv"), "bodies.torso_M.torso"),
     ],
 )
-def test_a_config_file_that_is_not_there_is_named_before_any_job(tmp_path, monkeypatch, change,
-                                                                  field):  # fmt: skip
+def test_a_config_file_that_is_not_there_is_named_before_any_job(
+    tmp_path, monkeypatch, change, field
+):
     monkeypatch.chdir(tmp_path)
     config = copy.deepcopy(CONFIG)
     change(config)

@@ -25,10 +25,14 @@ def tube(body, reduction, n=64, m=6, around="weft"):
         "material": "powernet",
         "body": body,
         "garment": {
-            "bottom": 0.1, "top": 0.4, "reduction": reduction, "grid": [n, m],
-            "edges": "sliding", "around": around,
+            "bottom": 0.1,
+            "top": 0.4,
+            "reduction": reduction,
+            "grid": [n, m],
+            "edges": "sliding",
+            "around": around,
         },
-    }  # fmt: skip
+    }
     return initial_state(case)
 
 

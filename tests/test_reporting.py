@@ -66,7 +66,7 @@ def _summary_row(
             "judge": judge,
             "garment": {"bottom": 0.1, "top": 0.4, "grid": [12, 6], "reduction": 0.2},
         }
-        attrs["case"] = json.dumps(validate_case(case).to_dict())  # fmt: skip
+        attrs["case"] = json.dumps(validate_case(case).to_dict())
     ds = xr.Dataset(
         {
             "landmark_height": ("landmark", [1.0]),
@@ -172,8 +172,9 @@ def test_girth_line_pressures_on_an_ellipse_are_laplace_along_its_curvature(tmp_
     with open(out / "summary.csv", newline="") as handle:
         row = next(csv.DictReader(handle))
     assert float(row["tension_weft_mean_N_per_m"]) == pytest.approx(tension, rel=5e-3)
-    assert float(row["pressure_mean_Pa"]) == pytest.approx(2 * math.pi * tension / perimeter,
-                                                           rel=1e-2)  # fmt: skip
+    assert float(row["pressure_mean_Pa"]) == pytest.approx(
+        2 * math.pi * tension / perimeter, rel=1e-2
+    )
     # the max and min are a 5 cm probe's readings at the ends of the axes: Laplace's T kappa
     # averaged over its footprint along the girth with the biweight of the arc length
     assert float(row["pressure_max_Pa"]) == pytest.approx(
@@ -245,13 +246,23 @@ def test_the_design_interval_is_the_stated_pressure_error_over_the_slope():
     (r 0.25, 80 Pa): the error there is 50 Pa, the slope 20000 Pa per unit reduction, so the
     answer 0.175 holds to +- 0.0025; a case without an estimate gives no interval."""
     ds = xr.Dataset(
-        {"pressure_mean": (("material", "body", "reduction", "landmark"),
-                           np.array([1000.0, 1500.0, 3500.0]).reshape(1, 1, 3, 1)),
-         "pressure_mean_error": (("material", "body", "reduction", "landmark"),
-                                 np.array([30.0, 40.0, 80.0]).reshape(1, 1, 3, 1))},
-        coords={"material": ["m"], "body": ["b"], "reduction": [0.1, 0.15, 0.25],
-                "landmark": ["waist"]},
-    )  # fmt: skip
+        {
+            "pressure_mean": (
+                ("material", "body", "reduction", "landmark"),
+                np.array([1000.0, 1500.0, 3500.0]).reshape(1, 1, 3, 1),
+            ),
+            "pressure_mean_error": (
+                ("material", "body", "reduction", "landmark"),
+                np.array([30.0, 40.0, 80.0]).reshape(1, 1, 3, 1),
+            ),
+        },
+        coords={
+            "material": ["m"],
+            "body": ["b"],
+            "reduction": [0.1, 0.15, 0.25],
+            "landmark": ["waist"],
+        },
+    )
     row = design(ds, [{"landmark": "waist", "pressure_kPa": 2.0}])[0]
     assert row["reduction"] == pytest.approx(0.175)
     assert row["reduction_error"] == pytest.approx(0.0025)
@@ -285,19 +296,31 @@ def test_a_design_row_says_what_it_found_in_its_own_words():
         row = design(ds, [{"landmark": "waist", "pressure_kPa": pa / 1000}])[0]
         assert (row["status"], row["message"]) == ("ok", "")
         assert row["reduction"] == pytest.approx(reduction)
-    assert set(row) == {"material", "body", "landmark", "target_Pa", "target_mmHg",
-                        "reduction", "reduction_error", "reduction_low", "reduction_high",
-                        "status", "message"}  # fmt: skip
+    assert set(row) == {
+        "material",
+        "body",
+        "landmark",
+        "target_Pa",
+        "target_mmHg",
+        "reduction",
+        "reduction_error",
+        "reduction_low",
+        "reduction_high",
+        "status",
+        "message",
+    }
     assert (row["material"], row["body"], row["landmark"]) == ("m", "b", "waist")
-    two = design(_sweep([math.nan, 1500.0, 2500.0, math.nan]), [
-        {"landmark": "waist", "pressure_kPa": 2.0}])[0]  # fmt: skip
+    two = design(
+        _sweep([math.nan, 1500.0, 2500.0, math.nan]), [{"landmark": "waist", "pressure_kPa": 2.0}]
+    )[0]
     assert two["status"] == "ok" and two["reduction"] == pytest.approx(0.175)
     high = design(ds, [{"landmark": "waist", "pressure_kPa": 5.0}])[0]
     assert high["status"] == "out_of_range" and math.isnan(high["reduction"])
     assert "reaches 37.5 mmHg at the waist" in high["message"]
     assert "the sweep gives 7.5-26.3 mmHg" in high["message"]
-    one = design(_sweep([math.nan, 1500.0, math.nan, math.nan]), [
-        {"landmark": "waist", "pressure_kPa": 2.0}])[0]  # fmt: skip
+    one = design(
+        _sweep([math.nan, 1500.0, math.nan, math.nan]), [{"landmark": "waist", "pressure_kPa": 2.0}]
+    )[0]
     assert one["status"] == "no_data" and one["message"] == "fewer than two swept reductions"
     with pytest.raises(InputError) as error:
         design(ds, [{"landmark": "hip", "pressure_kPa": 2.0}])

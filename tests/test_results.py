@@ -95,10 +95,14 @@ def test_laplace_diagnostic_uses_tension_per_deformed_width(tmp_path):
         "material": "powernet",
         "body": {"cylinder": {"radius": 0.1, "bottom": 0.0, "top": 0.5}},
         "garment": {
-            "bottom": 0.1, "top": 0.4, "reduction": 0.2, "grid": [64, 6], "edges": "sliding",
+            "bottom": 0.1,
+            "top": 0.4,
+            "reduction": 0.2,
+            "grid": [64, 6],
+            "edges": "sliding",
             "lengthwise_reduction": 0.1,
         },
-    }  # fmt: skip
+    }
     state = initial_state(case)
     ds, _ = aggregate(relaxed_file(tmp_path, state, solve(state)))
     inner = slice(1, -1)
@@ -156,8 +160,21 @@ def test_cli_figures_export_and_non_converged(tmp_path, capsys):
     result = solve(state, tolerance=1e-14, iterations=1)  # stopped early: NOT converged
     path = relaxed_file(tmp_path, state, result, settings_tol=1e-14)
     out = tmp_path / "result.nc"
-    assert main(["--log-level", "WARNING", "aggregate", str(path), "-o", str(out),
-                 "--summary", str(tmp_path / "summary.csv")]) == 0  # fmt: skip
+    assert (
+        main(
+            [
+                "--log-level",
+                "WARNING",
+                "aggregate",
+                str(path),
+                "-o",
+                str(out),
+                "--summary",
+                str(tmp_path / "summary.csv"),
+            ]
+        )
+        == 0
+    )
     with xr.open_dataset(out) as ds:
         ds.load()
     assert ds.attrs["converged"] == 0 and "NOT" in ds["pressure"].attrs["long_name"]
@@ -243,10 +260,17 @@ def test_cone_edge_rows_carry_the_body_share_only(tmp_path, lengthwise):
 
     body = {"cone": {"radius_bottom": 0.15, "radius_top": 0.07, "bottom": 0.0, "top": 0.3}}
     case = {
-        "material": "powernet", "body": body,
-        "garment": {"bottom": 0.05, "top": 0.25, "reduction": 0.15, "grid": [64, 8],
-                    "edges": "sliding", "lengthwise_reduction": lengthwise},
-    }  # fmt: skip
+        "material": "powernet",
+        "body": body,
+        "garment": {
+            "bottom": 0.05,
+            "top": 0.25,
+            "reduction": 0.15,
+            "grid": [64, 8],
+            "edges": "sliding",
+            "lengthwise_reduction": lengthwise,
+        },
+    }
     state = initial_state(case)
     result = solve(state, iterations=100)
     assert result.converged
@@ -311,10 +335,13 @@ def test_a_scan_s_wiggles_are_not_landmarks_and_its_kind_names_them(tmp_path, ki
     write_obj(tmp_path / "scan.obj", vertices, faces)
     body = {"mesh": "scan.obj", "surface": "mesh", **({"kind": kind} if kind else {})}
     state = initial_state(
-        {"material": "powernet", "body": body,
-         "garment": {"bottom": 0.80, "top": 1.28, "reduction": 0.15, "grid": [24, 49]}},
+        {
+            "material": "powernet",
+            "body": body,
+            "garment": {"bottom": 0.80, "top": 1.28, "reduction": 0.15, "grid": [24, 49]},
+        },
         tmp_path,
-    )  # fmt: skip
+    )
     marks = girth_extrema(state)
     names = ["hip", "waist", "bust"] if kind else ["girth_max_1", "girth_min_2", "girth_max_3"]
     assert list(marks) == names

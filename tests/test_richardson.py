@@ -55,17 +55,27 @@ def test_unequal_ratios_give_the_order_and_the_limit_of_a_power_law(order):
 
 def _cylinder_pressure(n: int, radius: float, reduction: float) -> float:
     """Mean pressure (Pa) of the interior rows of a tube of n nodes around on a cylinder."""
-    case = validate_case({
-        "material": "powernet", "body": {"cylinder": {"radius": radius}},
-        "garment": {"bottom": 0.1, "top": 0.4, "reduction": reduction, "grid": [n, 4]},
-    })  # fmt: skip
+    case = validate_case(
+        {
+            "material": "powernet",
+            "body": {"cylinder": {"radius": radius}},
+            "garment": {"bottom": 0.1, "top": 0.4, "reduction": reduction, "grid": [n, 4]},
+        }
+    )
     body, record = body_from_config(case.body.block)
     state = predeform(case, load_fabric("powernet", ROOT), body, record)
     final = relax(state, body, Settings(method="newton")).final
     fields = node_fields(
-        state.grid, final.x, final.springs, state.fabric.thickness, final.forces,
-        final.unbalanced, final.on_body, final.normal, state.constraint,
-    )  # fmt: skip
+        state.grid,
+        final.x,
+        final.springs,
+        state.fabric.thickness,
+        final.forces,
+        final.unbalanced,
+        final.on_body,
+        final.normal,
+        state.constraint,
+    )
     return float(fields.pressure.reshape(4, n)[1:-1].mean())
 
 

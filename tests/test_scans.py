@@ -51,8 +51,11 @@ def girth_pressures(body: dict, grid: tuple[int, int]):
     solid, _ = body_from_config(state.case.body.block)
     result = relax(state, solid, Settings(tolerance=1e-8, max_iterations=100, progress=False))
     rows_z, means = row_means(result, state)
-    return result, state, {name: float(means[nearest_row(rows_z, h)])
-                           for name, h in heights.items()}  # fmt: skip
+    return (
+        result,
+        state,
+        {name: float(means[nearest_row(rows_z, h)]) for name, h in heights.items()},
+    )
 
 
 def row_means(result, state) -> tuple[np.ndarray, np.ndarray]:
@@ -60,9 +63,15 @@ def row_means(result, state) -> tuple[np.ndarray, np.ndarray]:
     equilibrium of ``result`` (`girth_pressures`'s)."""
     ev = result.final
     fields = node_fields(
-        state.grid, ev.x, ev.springs, state.fabric.thickness, ev.forces, ev.unbalanced,
-        ev.on_body, ev.normal,
-    )  # fmt: skip
+        state.grid,
+        ev.x,
+        ev.springs,
+        state.fabric.thickness,
+        ev.forces,
+        ev.unbalanced,
+        ev.on_body,
+        ev.normal,
+    )
     rows_z = ev.x.reshape(state.grid.m, state.grid.n, 3)[..., 2].mean(axis=1)
     on = fields.on_body.reshape(state.grid.m, state.grid.n).astype(bool)
     pressure = np.where(on, fields.pressure.reshape(state.grid.m, state.grid.n), 0.0)

@@ -29,8 +29,9 @@ def window_means(run, heights: dict[str, float], half: dict[str, float]) -> dict
     """Each line's mean pressure (Pa) over the grid rows within ``half`` (m) of its height, at
     the equilibrium of ``run`` (`girth_pressures`'s result and state)."""
     rows_z, means = row_means(*run[:2])
-    return {name: float(means[np.abs(rows_z - h) <= half[name]].mean())
-            for name, h in heights.items()}  # fmt: skip
+    return {
+        name: float(means[np.abs(rows_z - h) <= half[name]].mean()) for name, h in heights.items()
+    }
 
 
 def ring_half_spacing(vertices: np.ndarray, heights: dict[str, float]) -> dict[str, float]:

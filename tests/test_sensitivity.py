@@ -33,17 +33,32 @@ PLAIN = {**TIGHT, "continuation": False, "reuse": False}
 def _case(body: str, edges: str) -> dict:
     if body == "torso":
         return {
-            "material": "powernet", "body": {"torso": {"size": "M"}}, "solver": PLAIN,
-            "garment": {"bottom": 0.86, "top": 1.22, "grid": [96, 48], "edges": edges,
-                        "lengthwise_reduction": 0.05,
-                        "reduction": {"hip": 0.15, "waist": 0.22, "underbust": 0.2,
-                                      "bust": 0.16}},
-        }  # fmt: skip
+            "material": "powernet",
+            "body": {"torso": {"size": "M"}},
+            "solver": PLAIN,
+            "garment": {
+                "bottom": 0.86,
+                "top": 1.22,
+                "grid": [96, 48],
+                "edges": edges,
+                "lengthwise_reduction": 0.05,
+                "reduction": {"hip": 0.15, "waist": 0.22, "underbust": 0.2, "bust": 0.16},
+            },
+        }
     return {
-        "material": "powernet", "body": BODIES[body], "landmarks": LINES, "solver": TIGHT,
-        "garment": {"bottom": 0.1, "top": 0.4, "grid": [24, 11], "lengthwise_reduction": 0.1,
-                    "edges": edges, "reduction": KNOTS},
-    }  # fmt: skip
+        "material": "powernet",
+        "body": BODIES[body],
+        "landmarks": LINES,
+        "solver": TIGHT,
+        "garment": {
+            "bottom": 0.1,
+            "top": 0.4,
+            "grid": [24, 11],
+            "lengthwise_reduction": 0.1,
+            "edges": edges,
+            "reduction": KNOTS,
+        },
+    }
 
 
 def _equilibrium(body: str, edges: str):

@@ -14,8 +14,9 @@ GARMENT = {"bottom": 0.1, "top": 0.4, "reduction": 0.2, "grid": [24, 4]}
 
 
 def write(path, **case):
-    path.write_text(yaml.safe_dump({"material": "powernet", "body": CYLINDER,
-                                    "garment": GARMENT, **case}))  # fmt: skip
+    path.write_text(
+        yaml.safe_dump({"material": "powernet", "body": CYLINDER, "garment": GARMENT, **case})
+    )
     return path
 
 
@@ -43,19 +44,35 @@ def test_a_case_on_tissue_with_friction_reports_indentation_and_friction(tmp_pat
 @pytest.mark.parametrize(
     ("case", "expected"),
     [
-        ({"body": {**CYLINDER, "tissue": {"thickness": 0.02, "modulus": -1.0}}},
-         "body.tissue.modulus"),
-        ({"body": {**CYLINDER, "tissue": {"thickness": float("nan"), "modulus": 2e4}}},
-         "body.tissue.thickness"),
-        ({"body": {**CYLINDER, "tissue": {"thickness": 0.02, "modulus": 2e4, "bands": [
-            {"bottom": 0.0, "top": 0.2, "thickness": 0.01, "modulus": 1e4}]}}},
-         "body.tissue.bands[0]"),
+        (
+            {"body": {**CYLINDER, "tissue": {"thickness": 0.02, "modulus": -1.0}}},
+            "body.tissue.modulus",
+        ),
+        (
+            {"body": {**CYLINDER, "tissue": {"thickness": float("nan"), "modulus": 2e4}}},
+            "body.tissue.thickness",
+        ),
+        (
+            {
+                "body": {
+                    **CYLINDER,
+                    "tissue": {
+                        "thickness": 0.02,
+                        "modulus": 2e4,
+                        "bands": [{"bottom": 0.0, "top": 0.2, "thickness": 0.01, "modulus": 1e4}],
+                    },
+                }
+            },
+            "body.tissue.bands[0]",
+        ),
         ({"contact": {"friction": -0.2}}, "contact.friction"),
         ({"contact": {"friction": 0.3}, "solver": {"method": "explicit"}}, "solver.method"),
-        ({"garment": {**GARMENT, "worn": True, "set_strain": {"weft": 1.5}}},
-         "garment.set_strain.weft"),
+        (
+            {"garment": {**GARMENT, "worn": True, "set_strain": {"weft": 1.5}}},
+            "garment.set_strain.weft",
+        ),
     ],
-)  # fmt: skip
+)
 def test_bad_skin_input_is_one_line_and_exit_2_before_any_file(tmp_path, capsys, case, expected):
     path = write(tmp_path / "bad.yaml", **case)
     out = tmp_path / "out"

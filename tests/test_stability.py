@@ -85,8 +85,9 @@ def test_unstable_modes_of_a_deformed_patch_are_the_closed_form_count(
     assert np.min(np.abs(eigenvalues)) > 1e-6 * np.max(np.abs(eigenvalues))  # no near-zero one
     negative = int(np.count_nonzero(eigenvalues < 0))
     interior = (N - 2) * (M - 2)
-    assert {"none": negative == 0, "some": 0 < negative < interior,
-            "many": negative >= interior}[expect]  # fmt: skip
+    assert {"none": negative == 0, "some": 0 < negative < interior, "many": negative >= interior}[
+        expect
+    ]
     problem, ev = patch_problem(fabric, lx, ly)
     assert unstable_modes(problem, ev) == negative
 
@@ -182,13 +183,23 @@ def test_relax_leaves_a_saddle_for_a_minimum_and_counts_its_modes(tmp_path, reus
         == 0
     )
     cone = {"cone": {"radius_bottom": 0.13, "radius_top": 0.09, "bottom": 0.0, "top": 0.5}}
-    state = initial_state({
-        "material": str(regularised), "body": cone,
-        "garment": {"bottom": 0.1, "top": 0.4, "reduction": 0.15, "grid": [96, 24]},
-    }, root)  # fmt: skip
+    state = initial_state(
+        {
+            "material": str(regularised),
+            "body": cone,
+            "garment": {"bottom": 0.1, "top": 0.4, "reduction": 0.15, "grid": [96, 24]},
+        },
+        root,
+    )
     body, _ = body_from_config(state.case.body.block)
-    settings = Settings(method="newton", linear_solver="superlu", tolerance=1e-10, reuse=reuse,
-                        leave_saddles=True, progress=False)  # fmt: skip
+    settings = Settings(
+        method="newton",
+        linear_solver="superlu",
+        tolerance=1e-10,
+        reuse=reuse,
+        leave_saddles=True,
+        progress=False,
+    )
     problem = Problem.of(state, body)
     stuck = relax(state, body, replace(settings, leave_saddles=False))
     at_saddle = unstable_modes(problem, problem.evaluate(stuck.final.x))

@@ -79,16 +79,30 @@ def test_later_stages_find_the_body_from_the_state_file_and_refuse_a_changed_one
     (tmp_path / "case/case.yaml").write_text(yaml.safe_dump(case))
     initial = tmp_path / "initial.nc"
     args = ["--log-level", "WARNING"]
-    assert main([*args, "predeform", str(tmp_path / "case/case.yaml"), "--base-dir",
-                 str(ROOT), "-o", str(initial)]) == 2  # fmt: skip
+    assert (
+        main(
+            [
+                *args,
+                "predeform",
+                str(tmp_path / "case/case.yaml"),
+                "--base-dir",
+                str(ROOT),
+                "-o",
+                str(initial),
+            ]
+        )
+        == 2
+    )
     assert "scan.obj" in capsys.readouterr().err  # not found beside the repository
     assert main([*args, "predeform", str(tmp_path / "case/case.yaml"), "-o", str(initial)]) == 0
     elsewhere = tmp_path / "elsewhere"
     elsewhere.mkdir()
     monkeypatch.chdir(elsewhere)  # no base directory: relax reads the body's record
     assert main([*args, "relax", str(initial), "-o", str(tmp_path / "relaxed.nc")]) == 0
-    assert main([*args, "aggregate", str(tmp_path / "relaxed.nc"), "-o",
-                 str(tmp_path / "result.nc")]) == 0  # fmt: skip
+    assert (
+        main([*args, "aggregate", str(tmp_path / "relaxed.nc"), "-o", str(tmp_path / "result.nc")])
+        == 0
+    )
     with (tmp_path / "case/scan.obj").open("a") as handle:
         handle.write("# edited\n")
     capsys.readouterr()
@@ -111,11 +125,27 @@ def test_a_case_is_validated_once_where_it_enters(tmp_path, monkeypatch):
     monkeypatch.setattr(cloth.pipeline.config, "Validator", counting)
     case = _case(tmp_path)
     base = ["--log-level", "WARNING"]
-    assert main([*base, "predeform", str(case), "--base-dir", str(ROOT), "-o",
-                 str(tmp_path / "i.nc")]) == 0  # fmt: skip
+    assert (
+        main([*base, "predeform", str(case), "--base-dir", str(ROOT), "-o", str(tmp_path / "i.nc")])
+        == 0
+    )
     assert len(calls) == 1  # read from its file; predeform trusts the Case
-    assert main([*base, "run", str(case), "--base-dir", str(ROOT), "-o", str(tmp_path / "r"),
-                 "--stop-after", "aggregate"]) == 0  # fmt: skip
+    assert (
+        main(
+            [
+                *base,
+                "run",
+                str(case),
+                "--base-dir",
+                str(ROOT),
+                "-o",
+                str(tmp_path / "r"),
+                "--stop-after",
+                "aggregate",
+            ]
+        )
+        == 0
+    )
     assert len(calls) == 2
     valid = cloth.pipeline.config.load_case(case)
     assert cloth.pipeline.config.validate_case(valid) is valid and len(calls) == 3

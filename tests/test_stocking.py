@@ -59,8 +59,10 @@ def test_the_stocking_answers_class_ii_at_b_and_designs_the_graded_pattern(stock
     (answer,) = _rows(stocking / "design_confirmed.csv")
     assert answer["landmark"] == "B" and answer["status"] == "ok"
     assert 23 <= float(answer["confirmed_mmHg"]) <= 32  # class II
-    design = {row["landmark"]: row for row in _rows(stocking / "designs" / "graded" /
-                                                     "design_confirmed.csv")}  # fmt: skip
+    design = {
+        row["landmark"]: row
+        for row in _rows(stocking / "designs" / "graded" / "design_confirmed.csv")
+    }
     assert set(design) == {"B", "C", "F"}
     assert all(row["met"] == "1" for row in design.values())
     assert (ROOT / "config" / "stocking.yaml").is_file()

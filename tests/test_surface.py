@@ -211,8 +211,9 @@ def test_phong_refinement_puts_new_points_on_the_curved_body(kind):
         flat_radius = np.hypot(*trimesh.remesh.subdivide(vertices, faces)[0][:, :2].T)
     else:
         radius = np.linalg.norm(refined, axis=1)
-        flat_radius = np.linalg.norm(trimesh.remesh.subdivide(*trimesh.remesh.subdivide(
-            vertices, faces))[0], axis=1)  # fmt: skip
+        flat_radius = np.linalg.norm(
+            trimesh.remesh.subdivide(*trimesh.remesh.subdivide(vertices, faces))[0], axis=1
+        )
     flat_error = np.abs(flat_radius - R).max()
     assert flat_error > 1e-4  # the facets' own error is real
     assert np.abs(radius - R).max() < 0.125 * flat_error

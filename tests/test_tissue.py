@@ -28,10 +28,13 @@ def tube(tissue=None, n=128, m=4, reduction=REDUCTION):
         "material": "powernet",
         "body": body,
         "garment": {
-            "bottom": 0.1, "top": 0.4, "reduction": reduction, "grid": [n, m],
+            "bottom": 0.1,
+            "top": 0.4,
+            "reduction": reduction,
+            "grid": [n, m],
             "edges": "sliding",
         },
-    }  # fmt: skip
+    }
     return initial_state(case)
 
 
@@ -106,9 +109,11 @@ def test_the_layer_stiffness_is_the_energy_hessian():
             minus[node, axis] -= step
             column = -(problem.evaluate(plus).loads - problem.evaluate(minus).loads) / (2 * step)
             np.testing.assert_allclose(
-                k[:, 3 * node + axis].toarray().ravel(), column.ravel(), rtol=1e-5,
+                k[:, 3 * node + axis].toarray().ravel(),
+                column.ravel(),
+                rtol=1e-5,
                 atol=1e-6 * np.abs(column).max(),
-            )  # fmt: skip
+            )
 
 
 @pytest.mark.parametrize(
@@ -118,29 +123,43 @@ def test_the_layer_stiffness_is_the_energy_hessian():
         ({"thickness": 0.01, "modulus": float("nan")}, "body.tissue.modulus"),
         ({"thickness": 0.01, "modulus": 0.0}, "body.tissue.modulus"),
         (
-            {"thickness": 0.01, "modulus": 2e4, "bands": [
-                {"bottom": 0.1, "top": 0.3, "thickness": 0.01, "modulus": 1e4},
-                {"bottom": 0.2, "top": 0.4, "thickness": 0.01, "modulus": 1e4}]},
+            {
+                "thickness": 0.01,
+                "modulus": 2e4,
+                "bands": [
+                    {"bottom": 0.1, "top": 0.3, "thickness": 0.01, "modulus": 1e4},
+                    {"bottom": 0.2, "top": 0.4, "thickness": 0.01, "modulus": 1e4},
+                ],
+            },
             "body.tissue.bands[1]",
         ),
         (
-            {"thickness": 0.01, "modulus": 2e4, "bands": [
-                {"bottom": 0.3, "top": 0.6, "thickness": 0.01, "modulus": 1e4}]},
+            {
+                "thickness": 0.01,
+                "modulus": 2e4,
+                "bands": [{"bottom": 0.3, "top": 0.6, "thickness": 0.01, "modulus": 1e4}],
+            },
             "body.tissue.bands[0]",
         ),
     ],
-)  # fmt: skip
+)
 def test_bad_tissue_is_refused_naming_the_field(tissue, field):
-    case = {"material": "powernet", "body": {"cylinder": {"radius": 0.1}, "tissue": tissue},
-            "garment": {"bottom": 0.1, "top": 0.4, "grid": [8, 4], "reduction": 0.1}}  # fmt: skip
+    case = {
+        "material": "powernet",
+        "body": {"cylinder": {"radius": 0.1}, "tissue": tissue},
+        "garment": {"bottom": 0.1, "top": 0.4, "grid": [8, 4], "reduction": 0.1},
+    }
     with pytest.raises(InputError) as error:
         validate_case(case, "case.yaml")
     assert error.value.field == field and "case.yaml" in str(error.value)
 
 
 def test_bands_give_their_layer_to_the_nodes_within_them():
-    block = {"thickness": 0.01, "modulus": 2e4, "bands": [
-        {"bottom": 0.2, "top": 0.3, "thickness": 0.03, "modulus": 5e3}]}  # fmt: skip
+    block = {
+        "thickness": 0.01,
+        "modulus": 2e4,
+        "bands": [{"bottom": 0.2, "top": 0.3, "thickness": 0.03, "modulus": 5e3}],
+    }
     thickness, modulus = Tissue.from_block(block, 0.1, 0.4).layers(np.array([0.15, 0.25, 0.35]))
     np.testing.assert_array_equal(thickness, [0.01, 0.03, 0.01])
     np.testing.assert_array_equal(modulus, [2e4, 5e3, 2e4])

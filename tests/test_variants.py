@@ -24,8 +24,12 @@ CONFIG = yaml.safe_load((ROOT / "config/config.yaml").read_text())
 
 def test_a_sweep_over_variants_names_and_builds_every_case():
     config = copy.deepcopy(CONFIG)
-    config["sweep"].update(tissue_moduli=[None, 20000], tissue_thickness=0.015,
-                           frictions=[0.0, 0.4], worn=[False, True])  # fmt: skip
+    config["sweep"].update(
+        tissue_moduli=[None, 20000],
+        tissue_thickness=0.015,
+        frictions=[0.0, 0.4],
+        worn=[False, True],
+    )
     plan = make_plan(config, ROOT)
     assert len(plan.index) == 16 * 2 * 2 * 2  # the default sweeps two lengthwise reductions
     assert "powernet__torso_M__r150" in plan.cases  # the default variant keeps its name
@@ -39,8 +43,14 @@ def test_a_sweep_over_variants_names_and_builds_every_case():
     rigid = next(e for e in plan.index if e["case"] == "powernet__torso_M__r150")
     assert rigid["tissue_modulus"] == math.inf and plan.cases[rigid["case"]].body.tissue is None
     # a design row names its variant, and its confirmation case has it
-    row = {"material": "powernet", "body": "torso_M", "reduction": "0.17",
-           "tissue_modulus": "20000.0", "friction": "0.4", "worn": "1"}  # fmt: skip
+    row = {
+        "material": "powernet",
+        "body": "torso_M",
+        "reduction": "0.17",
+        "tissue_modulus": "20000.0",
+        "friction": "0.4",
+        "worn": "1",
+    }
     assert plan.design_case(row)["contact"] == {"friction": 0.4}
 
 
@@ -63,18 +73,28 @@ def test_variant_tags_and_labels():
 
 
 def test_sweep_nc_gains_a_dimension_per_varied_key_and_csv_sets_worn_beside_new(tmp_path):
-    block = {"material": "powernet", "body": {"cylinder": {"radius": 0.1, "top": 0.5}},
-             "garment": {"bottom": 0.1, "top": 0.4, "grid": [24, 4]},
-             "solver": {"tolerance": 1e-9}}  # fmt: skip
+    block = {
+        "material": "powernet",
+        "body": {"cylinder": {"radius": 0.1, "top": 0.5}},
+        "garment": {"bottom": 0.1, "top": 0.4, "grid": [24, 4]},
+        "solver": {"tolerance": 1e-9},
+    }
     index = []
     for reduction in (0.1, 0.2):
         for friction in (0.0, 0.3):
             for worn in (False, True):
                 variant = Variant(friction=friction, worn=worn)
                 case = variant.apply(
-                    {**block, "garment": {**block["garment"], "reduction": reduction,
-                                          "set_strain": {"weft": 0.05, "warp": 0.0}}}, None
-                )  # fmt: skip
+                    {
+                        **block,
+                        "garment": {
+                            **block["garment"],
+                            "reduction": reduction,
+                            "set_strain": {"weft": 0.05, "warp": 0.0},
+                        },
+                    },
+                    None,
+                )
                 name = f"c{reduction:g}{variant.tag()}"
                 path = tmp_path / f"{name}.yaml"
                 path.write_text(yaml.safe_dump(case))

@@ -37,8 +37,9 @@ def test_the_page_carries_the_result_and_needs_no_network(page):
     assert not re.search(r"<script[^>]+src=[\"']?https?:", text)
     assert not re.search(r"<link[^>]+href=[\"']?https?:", text)
     assert '<meta name="cloth:nodes" content="192">' in text
-    fields = json.loads(re.search(r'name="cloth:fields" content="([^"]+)"', text)[1]
-                        .replace("&quot;", '"'))  # fmt: skip
+    fields = json.loads(
+        re.search(r'name="cloth:fields" content="([^"]+)"', text)[1].replace("&quot;", '"')
+    )
     assert fields[:5] == list(FIELDS)[:5] and "indentation" not in fields  # a rigid body
     fig = view_figure(ds)
     garment = fig.data[-1]
@@ -82,15 +83,23 @@ window.addEventListener("load", () => setTimeout(() => {
 
 
 def _chromium(*args):
-    flags = ["--headless=new", "--no-sandbox", "--disable-gpu", "--use-angle=swiftshader",
-             "--enable-unsafe-swiftshader", "--virtual-time-budget=15000",
-             "--window-size=1000,800"]  # fmt: skip
+    flags = [
+        "--headless=new",
+        "--no-sandbox",
+        "--disable-gpu",
+        "--use-angle=swiftshader",
+        "--enable-unsafe-swiftshader",
+        "--virtual-time-budget=15000",
+        "--window-size=1000,800",
+    ]
     return subprocess.run([CHROMIUM, *flags, *args], capture_output=True, text=True, timeout=120)
 
 
 @pytest.mark.browser
-@pytest.mark.skipif(CHROMIUM is None, reason="no chromium (Debian package chromium; .ci/run "
-                    "installs it where apt is available)")  # fmt: skip
+@pytest.mark.skipif(
+    CHROMIUM is None,
+    reason="no chromium (Debian package chromium; .ci/run installs it where apt is available)",
+)
 def test_a_real_browser_draws_the_garment_without_errors(page, tmp_path):
     import matplotlib.image
 

@@ -136,8 +136,10 @@ def test_tiny_pipeline_end_to_end(tiny_run):
     # 48 around, 30 rings (the landmarks among them), and the two caps: 48 x 29 x 2 + 2 x 48
     assert "faces: 2880" in (where / "results/bodies/small.txt").read_text()
     assert sorted(p.name for p in where.iterdir() if not p.name.startswith(".")) == [
-        "benchmarks", "logs", "results",
-    ]  # run from an empty folder: nothing of the workflow's was copied there  # fmt: skip
+        "benchmarks",
+        "logs",
+        "results",
+    ]  # run from an empty folder: nothing of the workflow's was copied there
     report = snakemake(where, *from_checkout(where), "--report", "report.html")
     assert report.returncode == 0, report.stderr[-2000:]
     assert (where / "report.html").stat().st_size > 100_000
@@ -185,9 +187,12 @@ def test_a_killed_run_leaves_no_corrupt_output_and_resumes(tmp_path):
     env = environment()
     process = subprocess.Popen(
         [str(SNAKEMAKE), "--cores", "2", "--configfile", "config/ci.yaml"],
-        cwd=where, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+        cwd=where,
+        env=env,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
         start_new_session=True,
-    )  # fmt: skip
+    )
     deadline = time.monotonic() + 300
     while time.monotonic() < deadline and not list((where / "logs").glob("relax/*.log")):
         time.sleep(0.05)

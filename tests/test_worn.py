@@ -18,10 +18,17 @@ CYLINDER = {"cylinder": {"radius": 0.1, "bottom": 0.0, "top": 0.5}}
 
 def tube(reduction, material="powernet", **garment):
     return {
-        "material": material, "body": CYLINDER,
-        "garment": {"bottom": 0.1, "top": 0.4, "reduction": reduction, "grid": [64, 4],
-                    "edges": "sliding", **garment},
-    }  # fmt: skip
+        "material": material,
+        "body": CYLINDER,
+        "garment": {
+            "bottom": 0.1,
+            "top": 0.4,
+            "reduction": reduction,
+            "grid": [64, 4],
+            "edges": "sliding",
+            **garment,
+        },
+    }
 
 
 def mean_pressure(case):

@@ -60,8 +60,9 @@ def is_noisy(vertices: NDArray[np.float64], faces: NDArray[np.intp], ratio: floa
         log.info(
             "the mesh's vertices scatter %.3g mm about a smooth surface, against %.3g mm of "
             "facet flatness: noise",
-            scatter * 1e3, flatness * 1e3,
-        )  # fmt: skip
+            scatter * 1e3,
+            flatness * 1e3,
+        )
     return bool(noisy)
 
 
@@ -114,6 +115,7 @@ def denoise(
     rms = float(np.sqrt(np.mean(move[used] ** 2)))
     log.info(
         "denoised the mesh along its normals: moved %.3g mm RMS, %.3g mm at most",
-        rms * 1e3, np.abs(move).max() * 1e3,
-    )  # fmt: skip
+        rms * 1e3,
+        np.abs(move).max() * 1e3,
+    )
     return vertices + move[:, None] * normals, rms

@@ -54,21 +54,27 @@ class LegChart:
 
     def __post_init__(self) -> None:
         for point in POINTS:
-            for what, table in (("circumference", self.girth), ("height", self.height),
-                                ("depth ratio", self.depth_ratio)):  # fmt: skip
+            for what, table in (
+                ("circumference", self.girth),
+                ("height", self.height),
+                ("depth ratio", self.depth_ratio),
+            ):
                 value = table.get(point)
                 if value is None or not np.isfinite(value) or value <= 0:
                     raise InputError(
                         f"size {self.name}, point {point}: the {what} must be a positive number, "
-                        f"got {value}", self.source, f"{point}",
-                    )  # fmt: skip
+                        f"got {value}",
+                        self.source,
+                        f"{point}",
+                    )
         for low, high in itertools.pairwise(POINTS):
             if self.height[high] <= self.height[low]:
                 raise InputError(
                     f"size {self.name}, point {high}: its height {100 * self.height[high]:g} cm "
-                    f"must be above {low}'s ({100 * self.height[low]:g} cm)", self.source,
+                    f"must be above {low}'s ({100 * self.height[low]:g} cm)",
+                    self.source,
                     f"{high}_height_cm",
-                )  # fmt: skip
+                )
 
     @property
     def bottom(self) -> float:
@@ -98,8 +104,10 @@ def read_leg_chart(path: str | Path = DEFAULT_LEG_CHART) -> dict[str, LegChart]:
                 point = key.split("_", 1)[0]
                 raise InputError(
                     f"size {name}, point {point}: {key} is missing or not a number "
-                    f"({text!r}); give it in cm (ratios as numbers)", path, key,
-                ) from None  # fmt: skip
+                    f"({text!r}); give it in cm (ratios as numbers)",
+                    path,
+                    key,
+                ) from None
 
         chart = LegChart(
             name=name,
@@ -124,25 +132,28 @@ def leg_of(spec: dict, chart_path: str | Path = DEFAULT_LEG_CHART) -> LegChart:
     ``circumference_cm``, ``height_cm`` and ``depth_ratio`` (point -> value) over it; without a
     size, the block's own values at every point (depth ratios default to the chart's first
     size's). `InputError` naming the point for a missing or bad value."""
-    given = {key: dict(spec.get(key) or {}) for key in ("circumference_cm", "height_cm",
-                                                        "depth_ratio")}  # fmt: skip
+    given = {
+        key: dict(spec.get(key) or {}) for key in ("circumference_cm", "height_cm", "depth_ratio")
+    }
     unknown = [p for values in given.values() for p in values if p not in POINTS]
     if unknown:
         raise InputError(
             f"unknown measuring point {unknown[0]!r}; the points are {', '.join(POINTS)}",
             field="body.leg",
-        )  # fmt: skip
+        )
     if "size" in spec:
         base = leg_size(spec["size"], chart_path)
         name = str(spec["size"])
     else:
-        missing = [p for p in POINTS for key in ("circumference_cm", "height_cm")
-                   if p not in given[key]]  # fmt: skip
+        missing = [
+            p for p in POINTS for key in ("circumference_cm", "height_cm") if p not in given[key]
+        ]
         if missing:
             raise InputError(
                 f"point {missing[0]}: give size, or circumference_cm and height_cm at every "
-                f"point ({', '.join(POINTS)})", field="body.leg",
-            )  # fmt: skip
+                f"point ({', '.join(POINTS)})",
+                field="body.leg",
+            )
         base = next(iter(read_leg_chart(chart_path).values()))
         name = "given"
     return LegChart(
@@ -171,10 +182,16 @@ def c2_profile(z: NDArray[np.float64], values: NDArray[np.float64]) -> BPoly:
 def _profiles(chart: LegChart):
     """Girth (m), depth ratio and front share (0.5: the axis centred) along the height."""
     z = [chart.bottom, *(chart.height[p] for p in POINTS), chart.top]
-    girth = [BELOW_GIRTH * chart.girth["B"], *(chart.girth[p] for p in POINTS),
-             ABOVE_GIRTH * chart.girth["G"]]  # fmt: skip
-    ratio = [chart.depth_ratio["B"], *(chart.depth_ratio[p] for p in POINTS),
-             chart.depth_ratio["G"]]  # fmt: skip
+    girth = [
+        BELOW_GIRTH * chart.girth["B"],
+        *(chart.girth[p] for p in POINTS),
+        ABOVE_GIRTH * chart.girth["G"],
+    ]
+    ratio = [
+        chart.depth_ratio["B"],
+        *(chart.depth_ratio[p] for p in POINTS),
+        chart.depth_ratio["G"],
+    ]
     front = np.full(len(z), 0.5)
     return c2_profile(z, girth), c2_profile(z, ratio), PchipInterpolator(z, front)
 
@@ -215,5 +232,11 @@ class SmoothLeg(SectionedBody):
 
     def __post_init__(self) -> None:
         chart = self.chart
-        self._build(chart.bottom, chart.top, *_profiles(chart), EXPONENT,
-                    lean_slope(self.lean_deg), chart.height["B"])  # fmt: skip
+        self._build(
+            chart.bottom,
+            chart.top,
+            *_profiles(chart),
+            EXPONENT,
+            lean_slope(self.lean_deg),
+            chart.height["B"],
+        )

@@ -215,8 +215,9 @@ class MeshBody:
             hint = "fix the mesh" if repair else "fix the mesh or set repair: true"
             raise InputError(f"{'; '.join(problems)}; {hint}", path, "mesh")
         for line in tolerated:
-            log.warning("%s: %s; the smooth surface takes its inside from the winding number",
-                        path, line)  # fmt: skip
+            log.warning(
+                "%s: %s; the smooth surface takes its inside from the winding number", path, line
+            )
         vertices = to_z_up(np.asarray(mesh.vertices), units, up)
         body = cls(vertices, np.asarray(mesh.faces), str(path), backend, report)
         log.info(

@@ -61,16 +61,20 @@ def refine_levels(crease_spacing: float, faces: int, scatter: float, flatness: f
         log.info(
             "the mesh's vertices scatter %.3g mm about a smooth surface, against %.3g mm of "
             "facet flatness: noise, so it is smoothed, not refined",
-            scatter * 1e3, flatness * 1e3,
-        )  # fmt: skip
+            scatter * 1e3,
+            flatness * 1e3,
+        )
         return 0
     levels = min(MAX_LEVELS, int(np.ceil(np.log2(crease_spacing / TARGET_SPACING))))
     if faces * 4**levels > MAX_FACES:
         log.info(
             "the mesh's facets are %.3g mm wide but refining %d faces %d times would make "
             "more than %d; fitted unrefined",
-            crease_spacing * 1e3, faces, levels, MAX_FACES,
-        )  # fmt: skip
+            crease_spacing * 1e3,
+            faces,
+            levels,
+            MAX_FACES,
+        )
         return 0
     return levels
 

@@ -101,9 +101,13 @@ def ring_heights(bottom: float, top: float, rings: int, marks: list[float]) -> N
 
 
 def ring_mesh(
-    heights: NDArray, around: int, girth: Profile, depth: Profile, front: Profile,
+    heights: NDArray,
+    around: int,
+    girth: Profile,
+    depth: Profile,
+    front: Profile,
     exponent: float,
-) -> tuple[NDArray[np.float64], NDArray[np.int64]]:  # fmt: skip
+) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
     """Vertices ((V, 3), m) and outward faces ((F, 3)) of the sections at ``heights`` (m,
     increasing), ``around`` points each, every ring's polygon perimeter the girth there; quads
     split in a checkerboard of diagonals (with ``around`` a multiple of 4 the mesh is
@@ -116,8 +120,12 @@ def ring_mesh(
         ring_list.append(np.column_stack([xy, np.full(around, z)]))
     side = np.concatenate(ring_list)
     # the cap centres inside the rings (rings are not centred on the axis front/back)
-    centres = np.array([[*ring_list[0][:, :2].mean(axis=0), heights[0]],
-                        [*ring_list[-1][:, :2].mean(axis=0), heights[-1]]])  # fmt: skip
+    centres = np.array(
+        [
+            [*ring_list[0][:, :2].mean(axis=0), heights[0]],
+            [*ring_list[-1][:, :2].mean(axis=0), heights[-1]],
+        ]
+    )
     vertices = np.concatenate([side, centres])
     n_rings = len(heights)
     i = np.arange(around)
@@ -152,9 +160,16 @@ class SectionedBody(ImplicitBody, AnalyticBody):
     lean_origin: float = 0.0
 
     def _build(
-        self, bottom: float, top: float, girth: Profile, depth: Profile, front: Profile,
-        exponent: float, lean: float = 0.0, lean_origin: float = 0.0,
-    ) -> None:  # fmt: skip
+        self,
+        bottom: float,
+        top: float,
+        girth: Profile,
+        depth: Profile,
+        front: Profile,
+        exponent: float,
+        lean: float = 0.0,
+        lean_origin: float = 0.0,
+    ) -> None:
         """Sample the profiles (girth m, depth/width ratio, front share of the depth) into the
         splines of a, b_front and b_back between ``bottom`` and ``top`` (m); the centres lean
         by ``lean`` (dy/dz) from the height ``lean_origin`` (m)."""

@@ -67,9 +67,13 @@ class SmoothMeshBody(ImplicitBody):
             vertices, move = denoise.as_fitted(
                 self.mesh.vertices, self.mesh.faces, self.denoise, refine.NOISE_RATIO
             )
-            self._tape = self.mesh if move == 0.0 else MeshBody(
-                vertices, self.mesh.faces, self.mesh.source, self.mesh.backend, self.mesh.report
-            )  # fmt: skip
+            self._tape = (
+                self.mesh
+                if move == 0.0
+                else MeshBody(
+                    vertices, self.mesh.faces, self.mesh.source, self.mesh.backend, self.mesh.report
+                )
+            )
         return self._tape
 
     def sections(self, z: float) -> list[Segments]:

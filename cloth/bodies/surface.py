@@ -262,8 +262,12 @@ def fit_surface(
     log.info(
         "fitting the smooth surface of %s: sigma %.3g mm, h %.3g mm (creases %.3g mm apart), "
         "grid %d x %d x %d",
-        mesh.source or "the mesh", sigma * 1e3, h * 1e3, creases * 1e3, *shape,
-    )  # fmt: skip
+        mesh.source or "the mesh",
+        sigma * 1e3,
+        h * 1e3,
+        creases * 1e3,
+        *shape,
+    )
     # coarse samples bound the distance: |d(x)| >= |d(c)| - |x - c| (1-Lipschitz)
     axes = [low[a] + COARSE * h * np.arange(coarse_shape[a]) for a in range(3)]
     coarse_points = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, 3)
@@ -314,6 +318,9 @@ def fit_surface(
     log.info(
         "smooth surface: %d exact samples; mesh vertices %.3g mm from it at most, %.3g mm RMS, "
         "%.3g mm on average (positive: the surface lies inside)",
-        exact.size, fit.deviation_max * 1e3, fit.deviation_rms * 1e3, fit.deviation_mean * 1e3,
-    )  # fmt: skip
+        exact.size,
+        fit.deviation_max * 1e3,
+        fit.deviation_rms * 1e3,
+        fit.deviation_mean * 1e3,
+    )
     return fit

@@ -7,6 +7,18 @@ from cloth.case.settings import LINEAR_SOLVERS, METHODS, Settings
 from cloth.case.skin import SLIP_FRACTION, Band, Contact, Skin, Tissue
 
 __all__ = [
-    "BODY_KINDS", "LINEAR_SOLVERS", "METHODS", "SLIP_FRACTION", "Band", "BodySpec", "Case",
-    "Contact", "GarmentSpec", "Reading", "Sensor", "Settings", "Skin", "Tissue",
-]  # fmt: skip
+    "BODY_KINDS",
+    "LINEAR_SOLVERS",
+    "METHODS",
+    "SLIP_FRACTION",
+    "Band",
+    "BodySpec",
+    "Case",
+    "Contact",
+    "GarmentSpec",
+    "Reading",
+    "Sensor",
+    "Settings",
+    "Skin",
+    "Tissue",
+]

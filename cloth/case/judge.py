@@ -29,9 +29,15 @@ CLASSES = MappingProxyType(
 )
 #: ILLUSTRATIVE graduation: each point's pressure as a share of B's (not the standard's table).
 GRADUATION = MappingProxyType(
-    {"B1": (0.7, 1.0), "C": (0.5, 0.9), "D": (0.4, 0.8), "E": (0.3, 0.8), "F": (0.2, 0.6),
-     "G": (0.1, 0.5)}
-)  # fmt: skip
+    {
+        "B1": (0.7, 1.0),
+        "C": (0.5, 0.9),
+        "D": (0.4, 0.8),
+        "E": (0.3, 0.8),
+        "F": (0.2, 0.6),
+        "G": (0.1, 0.5),
+    }
+)
 
 
 def _pairs(block: Mapping[str, Any], what: str) -> Mapping[str, tuple[float, float]]:
@@ -39,8 +45,10 @@ def _pairs(block: Mapping[str, Any], what: str) -> Mapping[str, tuple[float, flo
     for name, pair in block.items():
         low, high = (float(v) for v in pair)
         if not (low >= 0 and high >= low):
-            raise InputError(f"{name}: give [low, high] with 0 <= low <= high, got {list(pair)}",
-                             field=f"judge.{what}.{name}")  # fmt: skip
+            raise InputError(
+                f"{name}: give [low, high] with 0 <= low <= high, got {list(pair)}",
+                field=f"judge.{what}.{name}",
+            )
         out[str(name)] = (low, high)
     return MappingProxyType(out)
 
@@ -67,11 +75,10 @@ class Judge:
             class_point=str(block.get("class_point", "B")),
             classes=_pairs(block["classes"], "classes") if "classes" in block else CLASSES,
             graduation=(
-                _pairs(block["graduation"], "graduation") if "graduation" in block
-                else GRADUATION
+                _pairs(block["graduation"], "graduation") if "graduation" in block else GRADUATION
             ),
             bands=tuple(bands),
-        )  # fmt: skip
+        )
 
     def compression_class(self, mmhg: float) -> str:
         """The class a pressure (mmHg) at the class point falls in, '-' for none."""

@@ -80,8 +80,9 @@ class Profile:
                     known = ", ".join(sorted(landmarks)) or "none; give heights in m"
                     raise InputError(
                         f"knot {key!r} is neither a height in m nor a girth line of the body "
-                        f"(its girth lines: {known})", field=field,
-                    )  # fmt: skip
+                        f"(its girth lines: {known})",
+                        field=field,
+                    )
                 height = float(landmarks[key])
             out.append(height)
         heights = np.asarray(out)

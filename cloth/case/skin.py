@@ -69,8 +69,12 @@ class Tissue:
                     "m); move it within the garment's bottom and top",
                     field=where,
                 )
-            band = Band(low, high, _positive(raw, "thickness", where, "m"),
-                        _positive(raw, "modulus", where, "Pa"))  # fmt: skip
+            band = Band(
+                low,
+                high,
+                _positive(raw, "thickness", where, "m"),
+                _positive(raw, "modulus", where, "Pa"),
+            )
             for other, previous in enumerate(bands):
                 if band.bottom < previous.top and previous.bottom < band.top:
                     raise InputError(

@@ -43,13 +43,15 @@ def apply_block(
             known = sorted(names.get(dest, dest) for dest in actions)
             raise InputError(
                 f"{key!r} is not an option of this command; use {', '.join(known)}",
-                "--json", key,
-            )  # fmt: skip
+                "--json",
+                key,
+            )
         if getattr(args, action.dest) not in (None, [], action.default):
             raise InputError(
                 f"{key} is given both in --json and on the command line; give it once",
-                "--json", key,
-            )  # fmt: skip
+                "--json",
+                key,
+            )
         setattr(args, action.dest, _convert(action, key, value))
 
 

@@ -39,19 +39,26 @@ def _required(args: argparse.Namespace, dest: str, what: str) -> None:
 def _material_ingest(args: argparse.Namespace) -> int:
     _required(args, "tables", "the lab table(s), or --json with a table")
     options = IngestOptions(
-        n_knots=args.knots, branch=args.branch, cycle=args.cycle,
-        thickness_mm=args.thickness_mm, specimen_width_mm=args.specimen_width_mm,
-        gauge_length_mm=args.gauge_length_mm, compression_ratio=args.compression_ratio,
+        n_knots=args.knots,
+        branch=args.branch,
+        cycle=args.cycle,
+        thickness_mm=args.thickness_mm,
+        specimen_width_mm=args.specimen_width_mm,
+        gauge_length_mm=args.gauge_length_mm,
+        compression_ratio=args.compression_ratio,
         name=args.name,
-    )  # fmt: skip
+    )
     ingest_material(args.tables, args.direction, options, args.output, args.plot)
     return 0
 
 
 def _body_torso(args: argparse.Namespace) -> int:
     _required(args, "size", "--size, or --json with a torso block")
-    girths = {k: getattr(args, k) for k in ("bust", "underbust", "waist", "hip")
-              if getattr(args, k) is not None}  # fmt: skip
+    girths = {
+        k: getattr(args, k)
+        for k in ("bust", "underbust", "waist", "hip")
+        if getattr(args, k) is not None
+    }
     torso_file(args.size, args.chart, girths, args.around, args.rings, args.output)
     return 0
 
@@ -69,9 +76,16 @@ def _fit_options(args: argparse.Namespace):  # -> FitOptions (imported late: sta
 def _body_check(args: argparse.Namespace) -> int:
     _required(args, "mesh", "the mesh file, or --json with a mesh body block")
     lines = describe(
-        args.mesh, args.units, args.up, args.repair, args.levels, args.surface,
-        _fit_options(args), args.curvature, args.surface_file,
-    )  # fmt: skip
+        args.mesh,
+        args.units,
+        args.up,
+        args.repair,
+        args.levels,
+        args.surface,
+        _fit_options(args),
+        args.curvature,
+        args.surface_file,
+    )
     print("\n".join(lines))
     return 0
 
@@ -122,8 +136,7 @@ def _relax(args: argparse.Namespace) -> int:
 
 
 def _run(args: argparse.Namespace) -> int:
-    run_case(args.case, args.output, _overrides(args), args.base_dir, args.stop_after,
-             args.force)  # fmt: skip
+    run_case(args.case, args.output, _overrides(args), args.base_dir, args.stop_after, args.force)
     return 0
 
 
@@ -156,8 +169,15 @@ def _pattern(args: argparse.Namespace) -> int:
 def _sweep(args: argparse.Namespace) -> int:
     import json
 
-    sweep_files(json.loads(args.index), args.results, json.loads(args.targets), args.output,
-                args.csv, args.plot, args.body_plot)  # fmt: skip
+    sweep_files(
+        json.loads(args.index),
+        args.results,
+        json.loads(args.targets),
+        args.output,
+        args.csv,
+        args.plot,
+        args.body_plot,
+    )
     return 0
 
 
@@ -168,18 +188,21 @@ def _design(args: argparse.Namespace) -> int:
         if args.target or args.targets is None:
             raise InputError(
                 "a sweep's design takes --targets JSON, not --target; --target designs a case",
-                args.input, "--targets",
-            )  # fmt: skip
+                args.input,
+                "--targets",
+            )
         design_file(args.input, json.loads(args.targets), args.output)
         return 0
     if args.targets is not None:
         raise InputError(
             "a case's design takes --target LINE=PRESSURE (repeat per line), not --targets",
-            args.input, "--target",
-        )  # fmt: skip
+            args.input,
+            "--target",
+        )
     if not (args.tolerance > 0 and args.tolerance < float("inf")):
-        raise InputError(f"must be a positive number of mmHg, got {args.tolerance}",
-                         field="--tolerance")  # fmt: skip
+        raise InputError(
+            f"must be a positive number of mmHg, got {args.tolerance}", field="--tolerance"
+        )
     targets = [Target.parse(text) for text in args.target]
     design_files(args.input, targets, args.output, args.tolerance * MMHG, args.base_dir)
     return 0

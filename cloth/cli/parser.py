@@ -54,19 +54,22 @@ def _positive_int(text: str) -> int:
 
 def _force_option(command: argparse.ArgumentParser) -> None:
     command.add_argument(
-        "--force", action="store_true",
+        "--force",
+        action="store_true",
         help="run even when the estimated peak memory exceeds the free memory (also "
         "CLOTH_FORCE=1; docs/performance.md, 'Guardrails')",
-    )  # fmt: skip
+    )
 
 
 def _json_option(command: argparse.ArgumentParser, block: str, ignore: tuple[str, ...] = ()):
     """``--json BLOCK``: the options as a JSON block (`cloth.cli.blocks`)."""
     command.add_argument(
-        "--json", dest="block", metavar="BLOCK",
+        "--json",
+        dest="block",
+        metavar="BLOCK",
         help=f"the options as {block} in JSON, each key an option's name (e.g. "
-        '\'{"thickness_mm": 0.5}\' for --thickness-mm 0.5); the workflow passes its blocks so',
-    )  # fmt: skip
+        "'{\"thickness_mm\": 0.5}' for --thickness-mm 0.5); the workflow passes its blocks so",
+    )
     command.set_defaults(verb=command, block_ignores=frozenset(ignore))
 
 
@@ -188,9 +191,11 @@ def build_parser() -> argparse.ArgumentParser:
     _mesh_options(check)
     check.add_argument("--levels", type=int, default=10, help="heights in the girth profile")
     check.add_argument(
-        "--surface", choices=("smooth", "mesh"), default="smooth",
+        "--surface",
+        choices=("smooth", "mesh"),
+        default="smooth",
         help="contact surface: smooth (fit it and report its deviation) or mesh (the facets)",
-    )  # fmt: skip
+    )
     check.add_argument(
         "--curvature", type=_path, help="write the smooth surface's mean curvature figure (PNG)"
     )
@@ -219,24 +224,27 @@ def build_parser() -> argparse.ArgumentParser:
     pre.add_argument("case", type=_path, help="case YAML file")
     pre.add_argument("-o", "--output", type=_path, required=True, help="initial.nc to write")
     pre.add_argument(
-        "--base-dir", type=_path, help="folder relative paths in the case are relative to "
-        "(default: the case file's folder)",
-    )  # fmt: skip
+        "--base-dir",
+        type=_path,
+        help="folder relative paths in the case are relative to (default: the case file's folder)",
+    )
     pre.add_argument("--plot", type=_path, help="also write a 3D figure of the wrapped garment")
     _force_option(pre)
     pre.set_defaults(handler=_predeform)
 
     def solver_options(command: argparse.ArgumentParser) -> None:
         command.add_argument(
-            "--method", choices=["explicit", "newton", "explicit+newton"],
+            "--method",
+            choices=["explicit", "newton", "explicit+newton"],
             help="relaxation method (default: the case's solver block, else newton)",
-        )  # fmt: skip
+        )
         command.add_argument("--tolerance", type=float, help="relative residual to stop at")
         command.add_argument("--max-iterations", type=int, help="iteration limit")
         command.add_argument(
-            "--linear-solver", choices=["auto", "superlu", "cholmod", "pardiso", "amg"],
+            "--linear-solver",
+            choices=["auto", "superlu", "cholmod", "pardiso", "amg"],
             help="Newton's sparse solver (default auto)",
-        )  # fmt: skip
+        )
         command.add_argument("--log-every", type=int, help="log a line every N iterations")
         command.add_argument(
             "--warm-start", type=int, help="explicit iterations before Newton (explicit+newton)"
@@ -254,19 +262,22 @@ def build_parser() -> argparse.ArgumentParser:
     rel.set_defaults(handler=_relax)
 
     run = commands.add_parser(
-        "run", help="case.yaml -> every stage into a folder: initial.nc, relaxed.nc, "
+        "run",
+        help="case.yaml -> every stage into a folder: initial.nc, relaxed.nc, "
         "result.nc, summary.csv, figures/ and garment.html",
-    )  # fmt: skip
+    )
     run.add_argument("case", type=_path, help="case YAML file")
     run.add_argument("-o", "--output", type=_path, required=True, help="output folder")
     run.add_argument(
-        "--stop-after", choices=("predeform", "relax", "aggregate"),
+        "--stop-after",
+        choices=("predeform", "relax", "aggregate"),
         help="stop after this stage (default: run them all)",
-    )  # fmt: skip
+    )
     run.add_argument(
-        "--base-dir", type=_path, help="folder relative paths in the case are relative to "
-        "(default: the case file's folder)",
-    )  # fmt: skip
+        "--base-dir",
+        type=_path,
+        help="folder relative paths in the case are relative to (default: the case file's folder)",
+    )
     solver_options(run)
     run.set_defaults(handler=_run, output_folder=True)
 
@@ -285,18 +296,28 @@ def build_parser() -> argparse.ArgumentParser:
     plot.add_argument("result", type=_path, help="result.nc from cloth aggregate")
     plot.add_argument("-o", "--output", type=_path, required=True, help="folder for the figures")
     plot.add_argument(
-        "--stress-range", type=float, nargs=2, metavar=("LOW", "HIGH"),
+        "--stress-range",
+        type=float,
+        nargs=2,
+        metavar=("LOW", "HIGH"),
         help="fixed colour range of the stress maps, Pa (to compare runs)",
-    )  # fmt: skip
+    )
     plot.add_argument(
-        "--pressure-range", type=float, nargs=2, metavar=("LOW", "HIGH"),
+        "--pressure-range",
+        type=float,
+        nargs=2,
+        metavar=("LOW", "HIGH"),
         help="fixed colour range of the pressure map, mmHg",
-    )  # fmt: skip
+    )
     plot.add_argument(
-        "--peers", type=_path, nargs="*", default=[], metavar="RESULT",
+        "--peers",
+        type=_path,
+        nargs="*",
+        default=[],
+        metavar="RESULT",
         help="result.nc files (a sweep's) whose values set the colour ranges not given, so "
         "that the figures of a sweep compare (default: this result's own range)",
-    )  # fmt: skip
+    )
     plot.set_defaults(handler=_plot, output_folder=True)
 
     view = commands.add_parser(
@@ -317,18 +338,26 @@ def build_parser() -> argparse.ArgumentParser:
     )
     pat.add_argument("result", type=_path, help="result.nc from cloth aggregate")
     pat.add_argument(
-        "-o", "--output", type=_path, required=True,
+        "-o",
+        "--output",
+        type=_path,
+        required=True,
         help="pattern.csv to write; the SVG and DXF get its name with their suffixes",
-    )  # fmt: skip
+    )
     pat.add_argument(
-        "--cut", choices=("two-panel", "tube"), default="two-panel",
+        "--cut",
+        choices=("two-panel", "tube"),
+        default="two-panel",
         help="two-panel: the flat width is half the circumference (front and back panels); "
         "tube: all of it (default: two-panel)",
-    )  # fmt: skip
+    )
     pat.add_argument(
-        "--formats", nargs="+", choices=("csv", "svg", "dxf"), default=["csv", "svg", "dxf"],
+        "--formats",
+        nargs="+",
+        choices=("csv", "svg", "dxf"),
+        default=["csv", "svg", "dxf"],
         help="files to write (default: all three; DXF needs the extra pattern: ezdxf)",
-    )  # fmt: skip
+    )
     pat.set_defaults(handler=_pattern)
 
     sw = commands.add_parser("sweep", help="results of a sweep -> sweep.nc, sweep.csv, design plot")
@@ -336,17 +365,19 @@ def build_parser() -> argparse.ArgumentParser:
         "results", nargs="+", type=_path, help="result.nc of each case of the index, in its order"
     )
     sw.add_argument(
-        "--index", required=True,
+        "--index",
+        required=True,
         help="JSON list of {case, material, body, reduction, and the variant keys}",
-    )  # fmt: skip
+    )
     sw.add_argument("--targets", default="[]", help="JSON list of design targets (for the plot)")
     sw.add_argument("-o", "--output", type=_path, required=True, help="sweep.nc to write")
     sw.add_argument("--csv", type=_path, required=True, help="sweep.csv to write")
     sw.add_argument("--plot", type=_path, required=True, help="design plot to write")
     sw.add_argument(
-        "--body-plot", type=_path,
+        "--body-plot",
+        type=_path,
         help="small multiples to write: the pressure on the body per body and reduction",
-    )  # fmt: skip
+    )
     sw.set_defaults(handler=_sweep)
 
     de = commands.add_parser(
@@ -357,30 +388,42 @@ def build_parser() -> argparse.ArgumentParser:
     de.add_argument("input", type=_path, help="sweep.nc from cloth sweep, or a case YAML")
     de.add_argument("--targets", help="with sweep.nc: JSON list of {landmark, pressure_mmHg}")
     de.add_argument(
-        "--target", action="append", default=[], metavar="LINE=PRESSURE",
+        "--target",
+        action="append",
+        default=[],
+        metavar="LINE=PRESSURE",
         help="with a case: a girth line's mean pressure, in mmHg (default), kPa or Pa, e.g. "
         "waist=20 or hip=2.0kPa; repeat per line",
-    )  # fmt: skip
+    )
     de.add_argument(
-        "--base-dir", type=_path, help="with a case: folder relative paths in the case are "
+        "--base-dir",
+        type=_path,
+        help="with a case: folder relative paths in the case are "
         "relative to (default: the case file's folder)",
-    )  # fmt: skip
+    )
     de.add_argument(
-        "--tolerance", type=float, default=0.5,
+        "--tolerance",
+        type=float,
+        default=0.5,
         help="with a case: how near every line must come to its target, mmHg (default 0.5)",
-    )  # fmt: skip
+    )
     de.add_argument(
-        "-o", "--output", type=_path, required=True,
+        "-o",
+        "--output",
+        type=_path,
+        required=True,
         help="design.csv to write (sweep.nc), or the folder of the design (a case)",
-    )  # fmt: skip
+    )
     de.set_defaults(handler=_design)
 
     co = commands.add_parser("confirm", help="design.csv + confirmation results -> errors")
     co.add_argument("design", type=_path, help="design.csv from cloth design")
     co.add_argument(
-        "results", nargs="*", type=_path,
+        "results",
+        nargs="*",
+        type=_path,
         help="result.nc of each answered target's confirmation case, in design.csv's order",
-    )  # fmt: skip
+    )
     co.add_argument("-o", "--output", type=_path, required=True, help="confirmed CSV to write")
     co.set_defaults(handler=_confirm)
 

@@ -30,6 +30,5 @@ def skin_models(
     if skin.friction:
         eps = skin.contact.slip(float(grid.rest_length.min()))
         zeros = np.zeros(grid.n_nodes)
-        friction = Friction(float(skin.contact.friction), eps, x.copy(), zeros,
-                            np.zeros_like(x))  # fmt: skip
+        friction = Friction(float(skin.contact.friction), eps, x.copy(), zeros, np.zeros_like(x))
     return layer, friction

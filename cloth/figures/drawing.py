@@ -96,13 +96,17 @@ def body_triangles(record: dict | str, z_low: float, z_high: float) -> Triangles
             return None
     if "mesh" in block:
         mesh = MeshBody.load(
-            path, units=block.get("units", "m"), up=block.get("up", "z"),
-            repair=bool(block.get("repair", False)), allow_holes=True,
-        )  # fmt: skip
+            path,
+            units=block.get("units", "m"),
+            up=block.get("up", "z"),
+            repair=bool(block.get("repair", False)),
+            allow_holes=True,
+        )
         return crop(mesh.vertices, mesh.faces, z_low, z_high)
     if "torso" in block:
-        vertices, faces = torso_mesh(chart_size(block["torso"]["size"], path), TORSO_AROUND,
-                                     TORSO_RINGS)  # fmt: skip
+        vertices, faces = torso_mesh(
+            chart_size(block["torso"]["size"], path), TORSO_AROUND, TORSO_RINGS
+        )
         return crop(vertices, faces, z_low, z_high)
     if "leg" in block:
         leg = block["leg"]

@@ -13,9 +13,15 @@ from cloth.errors import InputError
 from cloth.io import atomic_output
 
 FIELDS = (
-    "stress_weft", "stress_warp", "strain_weft", "strain_warp", "tension_weft", "tension_warp",
-    "pressure", "contact",
-)  # fmt: skip
+    "stress_weft",
+    "stress_warp",
+    "strain_weft",
+    "strain_warp",
+    "tension_weft",
+    "tension_warp",
+    "pressure",
+    "contact",
+)
 
 
 def _faces(n: int, m: int, closed: bool) -> np.ndarray:

@@ -179,9 +179,15 @@ def draw_view(
             ax.plot(seen[0], seen[1], line[:, 2], color="black", lw=1.0, zorder=3)
             tip = line[np.argmax(line @ eye)]
             value = _girth_value(ds, variable, scale, row, index)
-            ax.text(*(tip + 0.03 * eye + [0, 0, 0.012]), f"{name} {value:.3g} {unit}", fontsize=7,
-                    zorder=4, ha="center", va="bottom",
-                    bbox={"fc": "white", "alpha": 0.75, "lw": 0, "pad": 1})  # fmt: skip
+            ax.text(
+                *(tip + 0.03 * eye + [0, 0, 0.012]),
+                f"{name} {value:.3g} {unit}",
+                fontsize=7,
+                zorder=4,
+                ha="center",
+                va="bottom",
+                bbox={"fc": "white", "alpha": 0.75, "lw": 0, "pad": 1},
+            )
     span = np.ptp(points.reshape(-1, 3), axis=0).max() / 2 + 0.03
     centre = (points.reshape(-1, 3).max(axis=0) + points.reshape(-1, 3).min(axis=0)) / 2
     for setter, c in zip((ax.set_xlim, ax.set_ylim, ax.set_zlim), centre, strict=True):
@@ -210,8 +216,9 @@ def _colour_bar(fig, axes, norm: colors.Normalize, label: str, values: NDArray) 
     extend = {(False, False): "neither", (True, False): "min", (False, True): "max"}.get(
         (below, above), "both"
     )
-    fig.colorbar(cm.ScalarMappable(norm=norm, cmap=CMAP), ax=axes, shrink=0.75, extend=extend,
-                 label=label)  # fmt: skip
+    fig.colorbar(
+        cm.ScalarMappable(norm=norm, cmap=CMAP), ax=axes, shrink=0.75, extend=extend, label=label
+    )
 
 
 def body_figure(

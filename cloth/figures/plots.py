@@ -141,9 +141,14 @@ def plot_garment_3d(
         verts, faces = _body_triangles(body, max(lo, low - margin), min(hi, high + margin))
         if len(faces):
             ax.plot_trisurf(
-                verts[:, 0], verts[:, 1], faces, verts[:, 2], color="0.85", alpha=0.25,
+                verts[:, 0],
+                verts[:, 1],
+                faces,
+                verts[:, 2],
+                color="0.85",
+                alpha=0.25,
                 linewidth=0,
-            )  # fmt: skip
+            )
     norm = colors.Normalize(
         vmin=float(np.nanmin(values)) if vmin is None else vmin,
         vmax=float(np.nanmax(values)) if vmax is None else vmax,
@@ -235,13 +240,17 @@ def plot_result(
         start = np.stack([ds[f"{c}_initial"].values.ravel() for c in "xyz"], axis=1)
         paths.append(
             plot_garment_3d(
-                start, n, m, ds["stress_weft_initial"].values.ravel() / 1e3,
-                "weft stress [kPa]", folder / "garment_stress_initial.png",
+                start,
+                n,
+                m,
+                ds["stress_weft_initial"].values.ravel() / 1e3,
+                "weft stress [kPa]",
+                folder / "garment_stress_initial.png",
                 title="garment on the body before relaxation",
                 vmin=None if s_lo is None else s_lo / 1e3,
                 vmax=None if s_hi is None else s_hi / 1e3,
             )
-        )  # fmt: skip
+        )
     fig, ax = plt.subplots(figsize=(6.4, 4.0), layout="constrained")
     angle = np.linspace(0, 360, n, endpoint=False)
     on = ds["contact"].values.astype(bool)
@@ -306,17 +315,24 @@ def plot_body_field(
 
     finite = values[np.isfinite(values)]
     low, high = np.percentile(finite, [1, 99]) if finite.size else (0.0, 1.0)
-    norm = colors.TwoSlopeNorm(0.0, min(low, -1e-9), max(high, 1e-9)) if low < 0 < high else (
-        colors.Normalize(low, high)
-    )  # fmt: skip
+    norm = (
+        colors.TwoSlopeNorm(0.0, min(low, -1e-9), max(high, 1e-9))
+        if low < 0 < high
+        else (colors.Normalize(low, high))
+    )
     fig, axes = plt.subplots(1, 3, figsize=(11, 5.2), layout="constrained", sharey=True)
     views = (("front", 0, 1, 1.0), ("side", 1, 0, 1.0), ("back", 0, 1, -1.0))
     for ax, (name, across, depth, facing) in zip(axes, views, strict=True):
         order = np.argsort(facing * points[:, depth])  # far points first, near ones on top
         shown = ax.scatter(
-            facing * points[order, across] * (1 if name != "side" else -1), points[order, 2],
-            c=values[order], cmap="coolwarm", norm=norm, s=3, linewidths=0,
-        )  # fmt: skip
+            facing * points[order, across] * (1 if name != "side" else -1),
+            points[order, 2],
+            c=values[order],
+            cmap="coolwarm",
+            norm=norm,
+            s=3,
+            linewidths=0,
+        )
         ax.set_title(name)
         ax.set_aspect("equal")
         ax.set_xlabel("m")

@@ -87,46 +87,91 @@ def view_figure(ds: xr.Dataset, body: tuple[NDArray, NDArray] | None = None):
         f = f[(z.min(axis=1) < xyz[:, 2].min()) | (z.max(axis=1) > xyz[:, 2].max())]
         traces.append(
             go.Mesh3d(
-                x=v[:, 0], y=v[:, 1], z=v[:, 2], i=f[:, 0], j=f[:, 1], k=f[:, 2],
-                color="rgb(215,215,220)", name="body", hoverinfo="skip",
+                x=v[:, 0],
+                y=v[:, 1],
+                z=v[:, 2],
+                i=f[:, 0],
+                j=f[:, 1],
+                k=f[:, 2],
+                color="rgb(215,215,220)",
+                name="body",
+                hoverinfo="skip",
             )
-        )  # fmt: skip
+        )
     garment = len(traces)
 
     def colour(name: str) -> dict:
         finite = values[name][np.isfinite(values[name])]
         low, high = np.percentile(finite, [1, 99]) if finite.size else (0.0, 1.0)
-        return {"cmin": min(0.0, float(low)), "cmax": float(max(high, low + 1e-9)),
-                "title": f"{name} [{fields[name][2]}]"}  # fmt: skip
+        return {
+            "cmin": min(0.0, float(low)),
+            "cmax": float(max(high, low + 1e-9)),
+            "title": f"{name} [{fields[name][2]}]",
+        }
 
     start = colour(first)
     traces.append(
         go.Mesh3d(
-            x=xyz[:, 0], y=xyz[:, 1], z=xyz[:, 2], i=tri[:, 0], j=tri[:, 1], k=tri[:, 2],
-            intensity=values[first], intensitymode="vertex", colorscale="Viridis",
-            cmin=start["cmin"], cmax=start["cmax"], colorbar={"title": {"text": start["title"]}},
-            customdata=custom, hovertemplate=hover + "<extra>garment</extra>", name="garment",
+            x=xyz[:, 0],
+            y=xyz[:, 1],
+            z=xyz[:, 2],
+            i=tri[:, 0],
+            j=tri[:, 1],
+            k=tri[:, 2],
+            intensity=values[first],
+            intensitymode="vertex",
+            colorscale="Viridis",
+            cmin=start["cmin"],
+            cmax=start["cmax"],
+            colorbar={"title": {"text": start["title"]}},
+            customdata=custom,
+            hovertemplate=hover + "<extra>garment</extra>",
+            name="garment",
         )
-    )  # fmt: skip
+    )
     buttons = []
     for name in fields:
         c = colour(name)
-        buttons.append({
-            "label": f"{name} [{fields[name][2]}]", "method": "restyle",
-            "args": [{"intensity": [values[name].tolist()], "cmin": c["cmin"], "cmax": c["cmax"],
-                      "colorbar.title.text": c["title"]}, [garment]],
-        })  # fmt: skip
+        buttons.append(
+            {
+                "label": f"{name} [{fields[name][2]}]",
+                "method": "restyle",
+                "args": [
+                    {
+                        "intensity": [values[name].tolist()],
+                        "cmin": c["cmin"],
+                        "cmax": c["cmax"],
+                        "colorbar.title.text": c["title"],
+                    },
+                    [garment],
+                ],
+            }
+        )
     fig = go.Figure(traces)
     status = "" if int(ds.attrs.get("converged", 1)) else " (NOT CONVERGED)"
     fig.update_layout(
-        title={"text": f"{ds.attrs.get('fabric_name', 'garment')}: {n} x {m} = {m * n:,} nodes"
-                       f"{status}"},
-        scene={"aspectmode": "data", "xaxis_title": "x [m]", "yaxis_title": "y [m]",
-               "zaxis_title": "z [m]", "camera": {"eye": {"x": 0.0, "y": 2.0, "z": 0.3}}},
-        updatemenus=[{"buttons": buttons, "direction": "down", "x": 0.0, "y": 1.0,
-                      "xanchor": "left", "yanchor": "top"}],
+        title={
+            "text": f"{ds.attrs.get('fabric_name', 'garment')}: {n} x {m} = {m * n:,} nodes{status}"
+        },
+        scene={
+            "aspectmode": "data",
+            "xaxis_title": "x [m]",
+            "yaxis_title": "y [m]",
+            "zaxis_title": "z [m]",
+            "camera": {"eye": {"x": 0.0, "y": 2.0, "z": 0.3}},
+        },
+        updatemenus=[
+            {
+                "buttons": buttons,
+                "direction": "down",
+                "x": 0.0,
+                "y": 1.0,
+                "xanchor": "left",
+                "yanchor": "top",
+            }
+        ],
         margin={"l": 0, "r": 0, "t": 40, "b": 0},
-    )  # fmt: skip
+    )
     return fig
 
 

@@ -29,20 +29,26 @@ def body_from_config(block: dict, base_dir: str | Path = ".") -> tuple[Body, dic
         path = input_file(block["mesh"], base_dir, None, "body.mesh", "mesh file")
         smooth = block.get("surface", "smooth") == "smooth"
         mesh = MeshBody.load(
-            path, units=block.get("units", "m"), up=block.get("up", "z"),
-            repair=bool(block.get("repair", False)), allow_holes=smooth,
-        )  # fmt: skip
+            path,
+            units=block.get("units", "m"),
+            up=block.get("up", "z"),
+            repair=bool(block.get("repair", False)),
+            allow_holes=smooth,
+        )
         ref.update(kind="mesh", path=str(path), sha256=sha256(path))
         body: Body = mesh
         if smooth:
             options = FitOptions(
-                block.get("smoothing"), block.get("spacing"), block.get("refine"),
+                block.get("smoothing"),
+                block.get("spacing"),
+                block.get("refine"),
                 block.get("denoise"),
-            )  # fmt: skip
+            )
             surface_file = block.get("surface_file")
             if surface_file is not None:
-                surface_file = resolve(str(path_form(surface_file, None, "body.surface_file")),
-                                       base_dir)  # fmt: skip
+                surface_file = resolve(
+                    str(path_form(surface_file, None, "body.surface_file")), base_dir
+                )
             body = smooth_body(mesh, options, surface_file)  # predeform records the fit
         else:
             ref["surface"] = {"kind": "mesh"}
@@ -100,13 +106,16 @@ def body_from_record(record: dict, source: str | Path = "state file") -> Body:
     path = record.get("path")
     if path is not None:
         if not Path(path).is_file():
-            raise InputError(f"the body's file {path} is gone; restore it or rerun predeform",
-                             source, "body")  # fmt: skip
+            raise InputError(
+                f"the body's file {path} is gone; restore it or rerun predeform", source, "body"
+            )
         if record.get("sha256") and sha256(path) != record["sha256"]:
             raise InputError(
                 f"the body's file {path} changed since predeform (its sha256 differs); rerun "
-                "predeform", source, "body",
-            )  # fmt: skip
+                "predeform",
+                source,
+                "body",
+            )
         if "mesh" in block:
             block["mesh"] = path
         elif "torso" in block:

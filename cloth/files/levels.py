@@ -37,8 +37,10 @@ log = logging.getLogger(__name__)
 
 
 def _flags(meanings: str) -> dict[str, object]:
-    return {"flag_values": np.arange(len(meanings.split()), dtype=np.int8),
-            "flag_meanings": meanings}  # fmt: skip
+    return {
+        "flag_values": np.arange(len(meanings.split()), dtype=np.int8),
+        "flag_meanings": meanings,
+    }
 
 
 def mark_values(marks: Sequence[Sequence[Landmark]], names: Sequence[str]) -> dict[str, np.ndarray]:
@@ -60,13 +62,23 @@ def level_variables(
     """The level variables (module docstring) of ``grids`` ((n, m) each, finest first), whether
     each ``converged``, and per field its (levels, landmarks) ``values`` (`mark_values`)."""
     out = {
-        "level_n": variable("level", np.asarray([g[0] for g in grids], np.int32), "1",
-                            "nodes around on the grid level"),
-        "level_m": variable("level", np.asarray([g[1] for g in grids], np.int32), "1",
-                            "rows on the grid level"),
-        "level_converged": variable("level", np.asarray(converged, np.int8), "1",
-                                    "grid level relaxed to the tolerance", **_flags("no yes")),
-    }  # fmt: skip
+        "level_n": variable(
+            "level",
+            np.asarray([g[0] for g in grids], np.int32),
+            "1",
+            "nodes around on the grid level",
+        ),
+        "level_m": variable(
+            "level", np.asarray([g[1] for g in grids], np.int32), "1", "rows on the grid level"
+        ),
+        "level_converged": variable(
+            "level",
+            np.asarray(converged, np.int8),
+            "1",
+            "grid level relaxed to the tolerance",
+            **_flags("no yes"),
+        ),
+    }
     for field, (_, units, long_name) in LANDMARK_FIELDS.items():
         out[f"level_{field}"] = variable(
             ("level", "landmark"), values[field], units, f"{long_name} on the grid level"
@@ -82,8 +94,9 @@ def read_levels(
     without them."""
     if "level_n" not in ds:
         return [], [], {}
-    grids = [(int(n), int(m)) for n, m in zip(ds["level_n"].values, ds["level_m"].values,
-                                               strict=True)]  # fmt: skip
+    grids = [
+        (int(n), int(m)) for n, m in zip(ds["level_n"].values, ds["level_m"].values, strict=True)
+    ]
     known = ds["landmark"].values.tolist() if "landmark" in ds.coords else []
     values = {}
     for field in LANDMARK_FIELDS:
@@ -118,21 +131,30 @@ def estimate_variables(found: dict[str, list[Estimate]]) -> dict[str, xr.Variabl
     for field, (_, units, long_name) in LANDMARK_FIELDS.items():
         rows = found[field]
         out[f"{field}_order"] = variable(
-            "landmark", [e.order for e in rows], "1",
+            "landmark",
+            [e.order for e in rows],
+            "1",
             f"observed order of convergence of the {long_name}",
-        )  # fmt: skip
+        )
         out[f"{field}_extrapolated"] = variable(
-            "landmark", [e.extrapolated for e in rows], units,
+            "landmark",
+            [e.extrapolated for e in rows],
+            units,
             f"{long_name}, Richardson extrapolated",
-        )  # fmt: skip
+        )
         out[f"{field}_error"] = variable(
-            "landmark", [e.uncertainty for e in rows], units,
+            "landmark",
+            [e.uncertainty for e in rows],
+            units,
             f"estimated discretisation error of the {long_name} (grid convergence index)",
-        )  # fmt: skip
+        )
         out[f"{field}_estimate"] = variable(
-            "landmark", np.asarray([e.code for e in rows], np.int8), "1",
-            f"whether the {long_name}'s error was estimated", **_flags(FLAG_MEANINGS),
-        )  # fmt: skip
+            "landmark",
+            np.asarray([e.code for e in rows], np.int8),
+            "1",
+            f"whether the {long_name}'s error was estimated",
+            **_flags(FLAG_MEANINGS),
+        )
     return out
 
 
@@ -174,11 +196,15 @@ def estimate_columns(ds: xr.Dataset, index: int) -> dict[str, object]:
         "pressure_min_error_Pa": float(ds["pressure_min_error"][index]),
         "tension_weft_mean_error_N_per_m": float(ds["tension_mean_error"][index]),
         "error_note": "; ".join(notes),
-        **({"row_spacing_mm": 1e3 * float(ds["row_spacing"][index])} if "row_spacing" in ds
-           else {}),
-        **({"mesh_spacing_mm": 1e3 * float(ds["mesh_spacing"][index])} if "mesh_spacing" in ds
-           else {}),
-    }  # fmt: skip
+        **(
+            {"row_spacing_mm": 1e3 * float(ds["row_spacing"][index])} if "row_spacing" in ds else {}
+        ),
+        **(
+            {"mesh_spacing_mm": 1e3 * float(ds["mesh_spacing"][index])}
+            if "mesh_spacing" in ds
+            else {}
+        ),
+    }
 
 
 def log_estimates(names: Sequence[str], found: dict[str, list[Estimate]]) -> None:
@@ -196,8 +222,13 @@ def log_estimates(names: Sequence[str], found: dict[str, list[Estimate]]) -> Non
         elif estimate.observed:
             log.info(
                 "%s: mean pressure %.4g Pa +- %.2g Pa (%.2g %%; observed order %.2g, "
-                "extrapolated %.4g Pa)", name, estimate.reported, estimate.uncertainty,
-                100 * estimate.relative_error, estimate.order, estimate.extrapolated,
-            )  # fmt: skip
+                "extrapolated %.4g Pa)",
+                name,
+                estimate.reported,
+                estimate.uncertainty,
+                100 * estimate.relative_error,
+                estimate.order,
+                estimate.extrapolated,
+            )
         else:
             log.warning("%s: mean pressure error not estimated: %s", name, estimate.reason)

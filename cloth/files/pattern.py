@@ -104,15 +104,30 @@ def pattern_of(result: xr.Dataset, cut: str, source: str | Path = "result.nc") -
 def write_csv(pattern: Pattern, path: Path) -> Path:
     with atomic_output(path) as tmp, tmp.open("w", newline="") as handle:
         writer = csv.writer(handle)
-        writer.writerow(["row", "pattern_height_mm", "cut_height_m", "rest_circumference_mm",
-                         "width_mm", "reduction", "cut"])  # fmt: skip
+        writer.writerow(
+            [
+                "row",
+                "pattern_height_mm",
+                "cut_height_m",
+                "rest_circumference_mm",
+                "width_mm",
+                "reduction",
+                "cut",
+            ]
+        )
         for j in range(len(pattern.height)):
             reduction = "" if pattern.reduction is None else f"{pattern.reduction[j]:.6f}"
-            writer.writerow([
-                j, f"{pattern.height[j]:.4f}", f"{pattern.cut_height[j]:.6f}",
-                f"{pattern.circumference[j]:.4f}", f"{pattern.width[j]:.4f}", reduction,
-                pattern.cut,
-            ])  # fmt: skip
+            writer.writerow(
+                [
+                    j,
+                    f"{pattern.height[j]:.4f}",
+                    f"{pattern.cut_height[j]:.6f}",
+                    f"{pattern.circumference[j]:.4f}",
+                    f"{pattern.width[j]:.4f}",
+                    reduction,
+                    pattern.cut,
+                ]
+            )
     return path
 
 
@@ -187,9 +202,11 @@ WRITERS = {"csv": write_csv, "svg": write_svg, "dxf": write_dxf}
 
 
 def write_pattern(
-    result: str | Path, output: str | Path, cut: str = "two-panel",
+    result: str | Path,
+    output: str | Path,
+    cut: str = "two-panel",
     formats: Sequence[str] = FORMATS,
-) -> list[Path]:  # fmt: skip
+) -> list[Path]:
     """``result.nc`` -> the pattern beside ``output``: ``output`` with each format's suffix
     (``pattern.csv`` -> pattern.csv, pattern.svg, pattern.dxf). Checks every input before it
     writes: an unknown format, or DXF without ezdxf, is an `InputError` and nothing is written."""

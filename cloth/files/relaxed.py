@@ -73,8 +73,11 @@ def relaxed_dataset(
     ``previous``: the initial file's attributes."""
     x, on_body, history = run.final.x, run.final.on_body, run.history
     converged, iterations, linear_solver, seconds = (
-        run.converged, run.iterations, run.linear_solver, run.seconds
-    )  # fmt: skip
+        run.converged,
+        run.iterations,
+        run.linear_solver,
+        run.seconds,
+    )
     factorisations, peak_memory = run.factorisations, run.peak_memory
     gauge = turning_gauge(state.grid, state.constraint)
     relaxed = state.with_positions(

@@ -46,8 +46,15 @@ from cloth.results.regions import Region, note
 
 KIND = "result"
 #: The solver history copied from relaxed.nc, per iteration.
-HISTORY = ("residual", "energy", "penetration", "contacts", "step", "iteration_method",
-           "turning_force")  # fmt: skip
+HISTORY = (
+    "residual",
+    "energy",
+    "penetration",
+    "contacts",
+    "step",
+    "iteration_method",
+    "turning_force",
+)
 
 
 #: A spring strained less than this (1) is slack (rounding leaves +-1e-16 on unstrained ones).
@@ -58,9 +65,12 @@ def git_revision() -> str:
     """The source tree's git revision, or 'unknown'."""
     try:
         out = subprocess.run(
-            ["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True, timeout=5,
+            ["git", "rev-parse", "--short", "HEAD"],
+            capture_output=True,
+            text=True,
+            timeout=5,
             cwd=Path(__file__).resolve().parent,
-        )  # fmt: skip
+        )
         return out.stdout.strip() or "unknown"
     except (OSError, subprocess.SubprocessError):
         return "unknown"
@@ -147,9 +157,10 @@ def result_dataset(
     variables.update(pattern_variables(state))
     for name, (attribute, units, long_name) in (LANDMARK_FIELDS | ROW_FIELDS).items():
         variables[name] = xr.Variable(
-            "landmark", [getattr(m, attribute) for m in marks],
+            "landmark",
+            [getattr(m, attribute) for m in marks],
             {"units": units, "long_name": long_name},
-        )  # fmt: skip
+        )
     for name in ("spring_family", "spring_node_a", "spring_node_b", "rest_length", "area"):
         variables[name] = relaxed[name].variable
     for name in HISTORY:
@@ -262,10 +273,13 @@ def pattern_variables(state: State) -> dict[str, xr.Variable]:
     if reduction is not None:
         profile = state.case.garment.reduction_profile
         out["row_reduction"] = variable(
-            "row", reduction, "1", "reduction of the row's rest circumference from the hull girth",
+            "row",
+            reduction,
+            "1",
+            "reduction of the row's rest circumference from the hull girth",
             profile=json.dumps(profile.to_block() if profile is not None else None),
             interpolation="monotone cubic (PCHIP) through the knots, held beyond the end knots",
-        )  # fmt: skip
+        )
     return out
 
 
@@ -275,23 +289,37 @@ def summary_rows(ds: xr.Dataset, case_name: str) -> list[dict[str, object]]:
     rows = []
     for index, name in enumerate(ds["landmark"].values.tolist()):
         mark = Landmark(
-            str(name), float(ds["landmark_height"][index]), -1,
-            float(ds["pressure_mean"][index]), float(ds["pressure_max"][index]),
-            float(ds["pressure_min"][index]), float(ds["tension_mean"][index]),
+            str(name),
+            float(ds["landmark_height"][index]),
+            -1,
+            float(ds["pressure_mean"][index]),
+            float(ds["pressure_max"][index]),
+            float(ds["pressure_min"][index]),
+            float(ds["tension_mean"][index]),
             float(ds["row_pressure_mean"][index]) if "row_pressure_mean" in ds else np.nan,
-        )  # fmt: skip
+        )
         record = mark.record()
         record.pop("row")
         extra = {
             name: float(ds[name])
-            for name in ("max_strain_weft", "lab_max_strain_weft", "max_strain_warp",
-                         "lab_max_strain_warp")
+            for name in (
+                "max_strain_weft",
+                "lab_max_strain_weft",
+                "max_strain_warp",
+                "lab_max_strain_warp",
+            )
             if name in ds
-        }  # fmt: skip
+        }
         rows.append(
-            {"case": case_name, **record, **estimate_columns(ds, index), **extra,
-             **_region_columns(ds, index), "converged": int(ds.attrs.get("converged", 0))}
-        )  # fmt: skip
+            {
+                "case": case_name,
+                **record,
+                **estimate_columns(ds, index),
+                **extra,
+                **_region_columns(ds, index),
+                "converged": int(ds.attrs.get("converged", 0)),
+            }
+        )
     case = ds.attrs.get("case")
     judge = Case.from_dict(json.loads(case)).judge if case else Judge()
     return judged(rows, judge)

@@ -43,9 +43,22 @@ FORMAT_VERSION = 1
 CONSTRAINT_MEANINGS = "free sliding fixed"
 CONTACT_MEANINGS = "off_body on_body"
 REQUIRED = (
-    "x", "y", "z", "u", "v", "constraint", "contact", "spring_node_a", "spring_node_b",
-    "rest_length", "area", "spring_family", "weft_knot_strain", "warp_knot_strain", "thickness",
-)  # fmt: skip
+    "x",
+    "y",
+    "z",
+    "u",
+    "v",
+    "constraint",
+    "contact",
+    "spring_node_a",
+    "spring_node_b",
+    "rest_length",
+    "area",
+    "spring_family",
+    "weft_knot_strain",
+    "warp_knot_strain",
+    "thickness",
+)
 
 
 def state_dataset(state: State, stage: str, previous: dict[str, Any] | None = None) -> xr.Dataset:
@@ -154,9 +167,26 @@ def state_from_dataset(ds: xr.Dataset, source: str = "state") -> State:
     if "case" not in ds.attrs:
         raise InputError("the file has no case; re-run the stage that made it", source, "case")
     case = Case.from_dict(json.loads(ds.attrs["case"]), source)
-    skip = {"Conventions", "title", "institution", "source", "cloth_version", "history",
-            "cloth_kind", "format_version", "n", "m", "closed", "around", "fabric_name",
-            "provenance", "case", "body", "moduli", "stage"}  # fmt: skip
+    skip = {
+        "Conventions",
+        "title",
+        "institution",
+        "source",
+        "cloth_version",
+        "history",
+        "cloth_kind",
+        "format_version",
+        "n",
+        "m",
+        "closed",
+        "around",
+        "fabric_name",
+        "provenance",
+        "case",
+        "body",
+        "moduli",
+        "stage",
+    }
     return State(
         grid=grid,
         x=x,

@@ -38,9 +38,15 @@ from cloth.io import global_attrs, read_netcdf, write_netcdf
 log = logging.getLogger(__name__)
 
 _LENGTHS = (
-    "smoothing", "spacing", "trusted", "clamp", "crease_spacing", "deviation_max",
-    "deviation_rms", "deviation_mean",
-)  # fmt: skip
+    "smoothing",
+    "spacing",
+    "trusted",
+    "clamp",
+    "crease_spacing",
+    "deviation_max",
+    "deviation_rms",
+    "deviation_mean",
+)
 
 
 def write_surface(fit: SurfaceFit, path: str | Path, source: str = "") -> Path:
@@ -85,14 +91,18 @@ def write_surface(fit: SurfaceFit, path: str | Path, source: str = "") -> Path:
 def read_surface(path: str | Path) -> SurfaceFit:
     ds = read_netcdf(path, "surface", ("coefficient",))
     x, y, z = (ds[a].values for a in "xyz")
-    spline = SplineField(np.array([x[0], y[0], z[0]]), float(ds.attrs["spacing_m"]),
-                         ds["coefficient"].values.astype(np.float64))  # fmt: skip
+    spline = SplineField(
+        np.array([x[0], y[0], z[0]]),
+        float(ds.attrs["spacing_m"]),
+        ds["coefficient"].values.astype(np.float64),
+    )
     return SurfaceFit(
-        field=spline, key=str(ds.attrs["key"]),
+        field=spline,
+        key=str(ds.attrs["key"]),
         refine_levels=int(ds.attrs.get("refine_levels", 0)),
         denoise_move=float(ds.attrs.get("denoise_move_m", 0.0)),
         **{name: float(ds.attrs[f"{name}_m"]) for name in _LENGTHS},
-    )  # fmt: skip
+    )
 
 
 def cache_dir() -> Path:

@@ -55,7 +55,11 @@ class SpringState:
 
 
 @dataclass(frozen=True)
-class _Operators:
+class Operators:
+    """The grid's fixed sparse operators (built once per grid and cached): the spring-node
+    incidence and the CSR layout of the (3N, 3N) stiffness matrix. Public: the adjoint
+    (`cloth.results.sensitivity`) and the problem's force assembly use the incidence."""
+
     incidence: sp.csr_matrix  # (S, N): row k has -1 at a, +1 at b, so edges = incidence @ x
     incidence_t: sp.csr_matrix  # (N, S): its transpose, for scattering spring forces
     scatter: sp.csr_matrix  # (n_blocks, S): +1 diag blocks, -1 off-diagonal blocks
@@ -64,10 +68,11 @@ class _Operators:
     indptr: NDArray[np.int32]
 
 
-_CACHE: weakref.WeakKeyDictionary[Grid, _Operators] = weakref.WeakKeyDictionary()
+_CACHE: weakref.WeakKeyDictionary[Grid, Operators] = weakref.WeakKeyDictionary()
 
 
-def _operators(grid: Grid) -> _Operators:
+def operators(grid: Grid) -> Operators:
+    """``grid``'s `Operators`, cached while the grid lives."""
     cached = _CACHE.get(grid)
     if cached is not None:
         return cached
@@ -105,7 +110,7 @@ def _operators(grid: Grid) -> _Operators:
     indices[order] = np.broadcast_to(
         3 * block_col[:, None, None] + p[None, None, :], (n_blocks, 3, 3)
     ).ravel()
-    ops = _Operators(incidence_t.T.tocsr(), incidence_t, scatter, order, indices, indptr)
+    ops = Operators(incidence_t.T.tocsr(), incidence_t, scatter, order, indices, indptr)
     _CACHE[grid] = ops
     return ops
 
@@ -122,7 +127,7 @@ def _edges(x: ArrayLike, grid: Grid) -> tuple[NDArray[np.float64], NDArray[np.fl
 
     A sparse incidence product: about 5x faster than fancy-indexing rows of x at 1M springs.
     """
-    edge = _operators(grid).incidence @ _positions(x, grid)
+    edge = operators(grid).incidence @ _positions(x, grid)
     return edge, np.sqrt(np.einsum("ij,ij->i", edge, edge))
 
 
@@ -159,14 +164,14 @@ def spring_forces(state: SpringState, grid: Grid) -> NDArray[np.float64]:
 def forces(x: ArrayLike, grid: Grid, state: SpringState | None = None) -> NDArray[np.float64]:
     """Resultant force R on every node ((N, 3) float, N), R = -grad W (the paper's eq. 2)."""
     if state is not None:
-        return -(_operators(grid).incidence_t @ spring_forces(state, grid))
+        return -(operators(grid).incidence_t @ spring_forces(state, grid))
     edge, length = _edges(x, grid)
     strain = length / grid.rest_length - 1.0
     tension = np.empty_like(strain)  # A sigma / l, so that A sigma d = tension x edge
     for sl, curve in grid.segments():
         tension[sl] = curve.stress(strain[sl])
     tension *= grid.area / length
-    return -(_operators(grid).incidence_t @ (tension[:, None] * edge))
+    return -(operators(grid).incidence_t @ (tension[:, None] * edge))
 
 
 def stiffness(
@@ -185,7 +190,7 @@ def stiffness(
         Precomputed `spring_state(x, grid)`.
     """
     state = spring_state(x, grid) if state is None else state
-    ops = _operators(grid)
+    ops = operators(grid)
     axial = grid.area * state.tangent / grid.rest_length
     lateral = grid.area * state.stress / state.length
     if project:

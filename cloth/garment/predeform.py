@@ -93,8 +93,9 @@ def row_hulls(
     low, high = body.z_range
     hulls, several = [], []
     large = len(heights) * nodes_per_row > PROGRESS_NODES
-    for z in progress(heights, desc="predeform: row sections", unit="row",
-                      show=None if large else False):  # fmt: skip
+    for z in progress(
+        heights, desc="predeform: row sections", unit="row", show=None if large else False
+    ):
         if not low <= z <= high:
             raise InputError(
                 f"row height {z:.6g} m is outside the body ({low:.6g} to {high:.6g} m); choose "
@@ -113,10 +114,14 @@ def row_hulls(
         log.warning(
             "%d of %d rows (%.4g-%.4g m) meet %d section loops; the garment wraps the largest "
             "(%.0f-%.0f %% of their area); give garment.loop_point to choose another",
-            len(several), len(heights), several[0][0], several[-1][0],
-            max(count for _, count, _ in several), 100 * min(s for *_, s in several),
+            len(several),
+            len(heights),
+            several[0][0],
+            several[-1][0],
+            max(count for _, count, _ in several),
+            100 * min(s for *_, s in several),
             100 * max(s for *_, s in several),
-        )  # fmt: skip
+        )
     return hulls
 
 
@@ -208,9 +213,14 @@ def predeform(
         rest_v = rest_v * (1.0 + worn[up])
         log.info("predeform: worn garment, set strain weft %.4g, warp %.4g", *worn.values())
     grid = build_grid(
-        n, m, circumference, rest_v, grid_fabric(fabric, around),
-        closed=True, **moduli,
-    )  # fmt: skip
+        n,
+        m,
+        circumference,
+        rest_v,
+        grid_fabric(fabric, around),
+        closed=True,
+        **moduli,
+    )
     offset = garment.offset
     x = wrap(body, hulls, heights, n, offset)
     constraint = np.full(grid.n_nodes, FREE, dtype=np.int8)
@@ -223,9 +233,17 @@ def predeform(
     log.info(
         "predeform: %d x %d grid, rows %.4g-%.4g m, hull girth %.4g-%.4g m, initial weft strain "
         "%.4g-%.4g, %d of %d nodes on the body",
-        n, m, heights[0], heights[-1], hull_girth.min(), hull_girth.max(), strain.min(),
-        strain.max(), int(contact.sum()), grid.n_nodes,
-    )  # fmt: skip
+        n,
+        m,
+        heights[0],
+        heights[-1],
+        hull_girth.min(),
+        hull_girth.max(),
+        strain.min(),
+        strain.max(),
+        int(contact.sum()),
+        grid.n_nodes,
+    )
     record = getattr(body, "record", None)
     if record is not None:  # a fitted surface: its smoothing and deviation from the mesh
         body_ref["surface"] = record()
@@ -262,9 +280,14 @@ def recut(state: State, row_reduction: NDArray[np.float64]) -> Grid:
     weft = grid.rest_length[grid.family_slices[WEFT]].reshape(grid.m, -1).sum(axis=1)
     circumference = weft * (1.0 - np.asarray(row_reduction)) / (1.0 - old)
     return build_grid(
-        grid.n, grid.m, circumference, grid.rest_uv[:: grid.n, 1],
-        grid_fabric(state.fabric, state.around), closed=grid.closed, **state.moduli,
-    )  # fmt: skip
+        grid.n,
+        grid.m,
+        circumference,
+        grid.rest_uv[:: grid.n, 1],
+        grid_fabric(state.fabric, state.around),
+        closed=grid.closed,
+        **state.moduli,
+    )
 
 
 def with_profile(state: State, values: NDArray[np.float64]) -> State:

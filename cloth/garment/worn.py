@@ -48,8 +48,9 @@ def set_strains(garment: GarmentSpec, fabric: Fabric, source: str = "case") -> d
                 f"worn: true needs the {direction} set strain, and the material "
                 f"{fabric.name!r} has no load/unload cycles to measure it; give "
                 f"set_strain: {{{direction}: ...}} or set worn: false",
-                source, where,
-            )  # fmt: skip
+                source,
+                where,
+            )
         value = float(value)
         if not (math.isfinite(value) and 0.0 <= value < 1.0):
             raise InputError(f"a set strain must be a number in [0, 1), got {value}", source, where)

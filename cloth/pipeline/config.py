@@ -50,8 +50,10 @@ def schema_message(error: jsonschema.ValidationError) -> str:
         return schema_message(branch)
     message = error.message
     if error.validator == "type" and isinstance(value, str) and _number_text(value):
-        return (f"{value!r} is text to YAML, not a number; write it with a dot and a signed "
-                "exponent, e.g. 1.0e+9")  # fmt: skip
+        return (
+            f"{value!r} is text to YAML, not a number; write it with a dot and a signed "
+            "exponent, e.g. 1.0e+9"
+        )
     if isinstance(value, (str, list, dict)) and len(repr(value)) > 80:
         message = message.replace(repr(value), shown(value))
     if len(message) > 300:
@@ -70,14 +72,16 @@ def _branch_of(error: jsonschema.ValidationError) -> jsonschema.ValidationError 
     if error.validator != "oneOf" or not error.context:
         return None
     same_type = [
-        e for e in error.context
+        e
+        for e in error.context
         if not (e.validator in ("type", "const", "enum") and not e.relative_path)
-    ]  # fmt: skip
+    ]
     branches = {e.relative_schema_path[0] for e in error.context if e.relative_schema_path}
     wrong_type = {
-        e.relative_schema_path[0] for e in error.context
+        e.relative_schema_path[0]
+        for e in error.context
         if e.validator == "type" and not e.relative_path and e.relative_schema_path
-    }  # fmt: skip
+    }
     return same_type[0] if same_type and len(branches - wrong_type) == 1 else None
 
 
@@ -160,8 +164,10 @@ def validate_case(case: Case | dict[str, Any], source: str | Path = "case") -> C
         key = "accuracy" if "accuracy" in garment else "max_nodes"
         raise InputError(
             f"{key} refines an automatic grid; give grid: auto, or drop {key} (an explicit "
-            "grid reports its own error estimate)", source, f"garment.{key}",
-        )  # fmt: skip
+            "grid reports its own error estimate)",
+            source,
+            f"garment.{key}",
+        )
     elif garment["grid"][0] < 3 or garment["grid"][1] < 2:
         n, m = garment["grid"]
         raise InputError(

@@ -114,9 +114,12 @@ def check_fits(
     worst = max(estimates, key=lambda e: e.memory_mb)
     log.info(
         "estimated: %s nodes%s, peak memory %.0f MB (%s), time %s",
-        f"{nodes:,}", f" on {faces:,} mesh faces" if faces else "", worst.memory_mb, worst.stage,
+        f"{nodes:,}",
+        f" on {faces:,} mesh faces" if faces else "",
+        worst.memory_mb,
+        worst.stage,
         ", ".join(f"{e.stage} {_duration(e.seconds)}" for e in estimates),
-    )  # fmt: skip
+    )
     free = free_memory_mb()
     if free is None or worst.memory_mb <= free:
         return estimates
@@ -129,8 +132,9 @@ def check_fits(
         f"{what} need an estimated {worst.memory_mb:,.0f} MB in {worst.stage} (and about "
         f"{_duration(worst.seconds)}), but {free:,.0f} MB are free; use a coarser garment.grid "
         f"or a decimated mesh, or --force (or {FORCE_VARIABLE}=1) to run anyway",
-        source, "body.mesh" if mesh_heavy else "garment.grid",
-    )  # fmt: skip
+        source,
+        "body.mesh" if mesh_heavy else "garment.grid",
+    )
 
 
 def _duration(seconds: float) -> str:

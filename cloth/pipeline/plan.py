@@ -118,16 +118,18 @@ class Plan:
             block = dict(config.get("cases", {})[name])
             bodies = config.get("bodies", {})
             same = [key for key, body in bodies.items() if body == block["body"]]
-            block["body"] = local_body(block["body"], same[0] if same else f"case-{name}",
-                                       self.base)  # fmt: skip
+            block["body"] = local_body(
+                block["body"], same[0] if same else f"case-{name}", self.base
+            )
         block = dict(block)
         material = block.get("material")
         if material not in config["materials"]:
             raise InputError(
                 f"material {material!r} is not defined under materials "
                 f"({', '.join(sorted(config['materials']))})",
-                "config", f"{where}.{name}.material",
-            )  # fmt: skip
+                "config",
+                f"{where}.{name}.material",
+            )
         block["material"] = material_file("nc", material)
         return validate_case(block, f"config: {where}.{name}")
 
@@ -191,14 +193,16 @@ def _expand_sweep(plan: Plan) -> None:
             if name not in pool:
                 raise InputError(
                     f"{name!r} is not defined ({', '.join(sorted(pool)) or 'none defined'})",
-                    "config", key,
-                )  # fmt: skip
+                    "config",
+                    key,
+                )
     finite = [v for v in sweep.get("tissue_moduli", []) if v is not None and v != float("inf")]
     if finite and "tissue_thickness" not in sweep:
         raise InputError(
             "tissue_moduli needs tissue_thickness (m), the layer's thickness",
-            "config", "sweep.tissue_thickness",
-        )  # fmt: skip
+            "config",
+            "sweep.tissue_thickness",
+        )
     variants = sweep_variants(sweep)
     for material in sweep["materials"]:
         for body in sweep["bodies"]:
@@ -206,8 +210,15 @@ def _expand_sweep(plan: Plan) -> None:
                 for keys, variant in variants:
                     name = sweep_name(material, body, reduction, variant)
                     plan.sweep[name] = plan.sweep_block(material, body, reduction, variant)
-                    plan.index.append({"case": name, "material": material, "body": body,
-                                       "reduction": reduction, **keys})  # fmt: skip
+                    plan.index.append(
+                        {
+                            "case": name,
+                            "material": material,
+                            "body": body,
+                            "reduction": reduction,
+                            **keys,
+                        }
+                    )
 
 
 def profile_design(plan: Plan, name: str) -> tuple[Case, list[str], float]:
@@ -221,19 +232,26 @@ def profile_design(plan: Plan, name: str) -> tuple[Case, list[str], float]:
         raise InputError(
             f"body {design['body']!r} is not defined under bodies "
             f"({', '.join(sorted(config.get('bodies', {}))) or 'none defined'})",
-            "config", f"{where}.body",
-        )  # fmt: skip
+            "config",
+            f"{where}.body",
+        )
     if "reduction" in design.get("garment", {}):
-        raise InputError("the design sets the reduction; use start_reduction", "config",
-                         f"{where}.garment.reduction")  # fmt: skip
+        raise InputError(
+            "the design sets the reduction; use start_reduction",
+            "config",
+            f"{where}.garment.reduction",
+        )
     sweep = config.get("sweep") or {}
     block = {
         "material": design["material"],
         "body": local_body(config["bodies"][design["body"]], design["body"], plan.base),
-        "garment": {**sweep.get("garment", {}), **design.get("garment", {}),
-                    "reduction": design.get("start_reduction", 0.2)},
+        "garment": {
+            **sweep.get("garment", {}),
+            **design.get("garment", {}),
+            "reduction": design.get("start_reduction", 0.2),
+        },
         "solver": sweep.get("solver", {}),
-    }  # fmt: skip
+    }
     targets = []
     for number, text in enumerate(design["targets"]):
         try:
@@ -243,8 +261,9 @@ def profile_design(plan: Plan, name: str) -> tuple[Case, list[str], float]:
         targets.append(text)
     lines = [text.split("=", 1)[0].strip() for text in targets]
     if len(set(lines)) != len(lines):
-        raise InputError("a girth line is targeted twice; give each line once", "config",
-                         f"{where}.targets")  # fmt: skip
+        raise InputError(
+            "a girth line is targeted twice; give each line once", "config", f"{where}.targets"
+        )
     return (
         plan.case(name, block, "profile_designs"),
         targets,
@@ -280,8 +299,9 @@ def check_targets(config: dict) -> None:
         others = ", or middle, girth_min_N / girth_max_N (other bodies)" if "other" in kinds else ""
         raise InputError(
             f"unknown landmark {name!r}; the sweep's bodies have {', '.join(known)}{others}",
-            "config", f"{where}.landmark",
-        )  # fmt: skip
+            "config",
+            f"{where}.landmark",
+        )
 
 
 #: Config keys whose numbers may be +infinity, and what it means there (the config schema's
@@ -301,8 +321,9 @@ def check_finite(data: object, path: tuple = ()) -> None:
     elif isinstance(data, float) and not math.isfinite(data):
         if data == math.inf and path[:2] in INFINITE:
             return
-        raise InputError(f"{data} is not a finite number; give a finite value", "config",
-                         ".".join(path))  # fmt: skip
+        raise InputError(
+            f"{data} is not a finite number; give a finite value", "config", ".".join(path)
+        )
 
 
 def check_inputs(plan: Plan) -> None:
@@ -315,17 +336,25 @@ def check_inputs(plan: Plan) -> None:
         for index, table in enumerate(plan.material_tables(name)):
             field = f"materials.{name}.table" + (f".{index}" if several else "")
             input_file(table, ".", "config", field, "lab table")
-    bodies = {**config.get("bodies", {}),
-              **{f"cases.{n}": c["body"] for n, c in config.get("cases", {}).items()}}  # fmt: skip
+    bodies = {
+        **config.get("bodies", {}),
+        **{f"cases.{n}": c["body"] for n, c in config.get("cases", {}).items()},
+    }
     for name, body in bodies.items():
         where = name if name.startswith("cases.") else f"bodies.{name}"
         if "mesh" in body:
-            input_file(data_path(body["mesh"], plan.base), ".", "config", f"{where}.mesh",
-                       "mesh file")  # fmt: skip
+            input_file(
+                data_path(body["mesh"], plan.base), ".", "config", f"{where}.mesh", "mesh file"
+            )
         for kind in ("torso", "leg"):
             if "chart" in body.get(kind, {}):
-                input_file(data_path(body[kind]["chart"], plan.base), ".", "config",
-                           f"{where}.{kind}.chart", "size chart")  # fmt: skip
+                input_file(
+                    data_path(body[kind]["chart"], plan.base),
+                    ".",
+                    "config",
+                    f"{where}.{kind}.chart",
+                    "size chart",
+                )
 
 
 def make_plan(config: dict, base: str | Path | None = None) -> Plan:

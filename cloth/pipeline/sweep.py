@@ -83,10 +83,11 @@ def collect(index: list[dict], results: list[str | Path]) -> xr.Dataset:
     all_dims = (*dims, "landmark")
     described = {**FIELDS, **ERRORS}
     variables = {
-        field: xr.Variable(all_dims, array, {"units": described[field][0],
-                                             "long_name": described[field][1]})
+        field: xr.Variable(
+            all_dims, array, {"units": described[field][0], "long_name": described[field][1]}
+        )
         for field, array in data.items()
-    }  # fmt: skip
+    }
     flags = {"flag_values": np.array([0, 1], np.int8), "flag_meanings": "no yes"}
     variables["converged"] = xr.Variable(
         dims, converged, {"units": "1", "long_name": "relaxation converged", **flags}
@@ -95,11 +96,12 @@ def collect(index: list[dict], results: list[str | Path]) -> xr.Dataset:
         "material": xr.Variable("material", values["material"], {"long_name": "fabric"}),
         "body": xr.Variable("body", values["body"], {"long_name": "body"}),
         "reduction": xr.Variable(
-            "reduction", np.asarray(values["reduction"]),
+            "reduction",
+            np.asarray(values["reduction"]),
             {"units": "1", "long_name": "pattern reduction"},
         ),
         "landmark": xr.Variable("landmark", landmarks, {"long_name": "girth line"}),
-    }  # fmt: skip
+    }
     for key in entry_keys(index):
         array = np.asarray(values[key], np.int8 if key == "worn" else np.float64)
         attrs = dict(COORDINATES[key])
@@ -130,18 +132,24 @@ def sweep_rows(ds: xr.Dataset) -> list[dict[str, object]]:
     in %)."""
     rows = []
     both = "worn" in ds.dims and ds.sizes["worn"] == 2
-    dims = tuple(d for d in ("material", "body", "reduction", *variant_dims(ds))
-                 if not (both and d == "worn"))  # fmt: skip
+    dims = tuple(
+        d
+        for d in ("material", "body", "reduction", *variant_dims(ds))
+        if not (both and d == "worn")
+    )
     for where in _combinations(ds, (*dims, "landmark")):
         at = ds.sel(where | ({"worn": 0} if both else {}))
         if not np.isfinite(float(at["pressure_mean"])):
             continue
-        row = {**where, "pressure_mean_Pa": float(at["pressure_mean"]),
-               "pressure_mean_mmHg": float(at["pressure_mean"]) / MMHG,
-               "pressure_mean_error_mmHg": float(mean_error(at)) / MMHG,
-               "pressure_max_mmHg": float(at["pressure_max"]) / MMHG,
-               "tension_mean_N_per_m": float(at["tension_mean"]),
-               "converged": int(at["converged"])}  # fmt: skip
+        row = {
+            **where,
+            "pressure_mean_Pa": float(at["pressure_mean"]),
+            "pressure_mean_mmHg": float(at["pressure_mean"]) / MMHG,
+            "pressure_mean_error_mmHg": float(mean_error(at)) / MMHG,
+            "pressure_max_mmHg": float(at["pressure_max"]) / MMHG,
+            "tension_mean_N_per_m": float(at["tension_mean"]),
+            "converged": int(at["converged"]),
+        }
         if both:
             worn = float(ds.sel(where | {"worn": 1})["pressure_mean"])
             row["pressure_mean_mmHg_worn"] = worn / MMHG
@@ -197,11 +205,17 @@ def design(ds: xr.Dataset, targets: list[dict]) -> list[dict[str, object]]:
             p = ds["pressure_mean"].sel(where | {"landmark": landmark}).values
             ok = np.isfinite(p)
             row = {
-                **where, "landmark": landmark,
-                "target_Pa": goal, "target_mmHg": goal / MMHG,
-                "reduction": math.nan, "reduction_error": math.nan, "reduction_low": math.nan,
-                "reduction_high": math.nan, "status": "", "message": "",
-            }  # fmt: skip
+                **where,
+                "landmark": landmark,
+                "target_Pa": goal,
+                "target_mmHg": goal / MMHG,
+                "reduction": math.nan,
+                "reduction_error": math.nan,
+                "reduction_low": math.nan,
+                "reduction_high": math.nan,
+                "status": "",
+                "message": "",
+            }
             if np.count_nonzero(ok) < 2:
                 row.update(status="no_data", message="fewer than two swept reductions")
             elif not (p[ok].min() <= goal <= p[ok].max()):
@@ -237,14 +251,26 @@ def reduction_interval(
     t = (reduction - r[k]) / (r[k + 1] - r[k])
     slope = (p[k + 1] - p[k]) / (r[k + 1] - r[k])
     half = ((1 - t) * e[k] + t * e[k + 1]) / abs(slope) if slope else math.inf
-    return {"reduction_error": half, "reduction_low": reduction - half,
-            "reduction_high": reduction + half}  # fmt: skip
+    return {
+        "reduction_error": half,
+        "reduction_low": reduction - half,
+        "reduction_high": reduction + half,
+    }
 
 
 DESIGN_HEADER = [
-    "material", "body", "landmark", "target_Pa", "target_mmHg", "reduction", "reduction_error",
-    "reduction_low", "reduction_high", "status", "message",
-]  # fmt: skip
+    "material",
+    "body",
+    "landmark",
+    "target_Pa",
+    "target_mmHg",
+    "reduction",
+    "reduction_error",
+    "reduction_low",
+    "reduction_high",
+    "status",
+    "message",
+]
 
 
 def design_header(rows: list[dict]) -> list[str]:
@@ -297,9 +323,13 @@ def plot_design(ds: xr.Dataset, targets: list[dict], path: str | Path) -> Path:
     each varied key causes (`cloth.pipeline.variants`)."""
     landmarks = ds["landmark"].values.tolist()
     fig, axes = plt.subplots(
-        1, len(landmarks), figsize=(3.6 * len(landmarks), 3.8), sharey=True, layout="constrained",
+        1,
+        len(landmarks),
+        figsize=(3.6 * len(landmarks), 3.8),
+        sharey=True,
+        layout="constrained",
         squeeze=False,
-    )  # fmt: skip
+    )
     for ax, landmark in zip(axes[0], landmarks, strict=True):
         for name, lo, hi in RAL_CLASSES[:3]:
             ax.axhspan(lo, hi, color="tab:red", alpha=0.08)
@@ -316,18 +346,23 @@ def plot_design(ds: xr.Dataset, targets: list[dict], path: str | Path) -> Path:
                 + [Variant.of({d: v for d, v in first.items()}).label()]
             ).strip(", ")
             bars = mean_error(ds).sel(where | first | {"landmark": landmark}).values / MMHG
-            drawn = ax.errorbar(percent, line.values, yerr=np.nan_to_num(bars), fmt="o-",
-                                capsize=2, label=label).lines[0]  # fmt: skip
+            drawn = ax.errorbar(
+                percent, line.values, yerr=np.nan_to_num(bars), fmt="o-", capsize=2, label=label
+            ).lines[0]
             for hatch, dim in zip(("", "//", ".."), variants, strict=False):
                 if ds.sizes[dim] < 2:
                     continue  # the spread each varied key causes, the others at their first
                 others = {d: v for d, v in first.items() if d != dim}
                 spread = ds["pressure_mean"].sel(where | others | {"landmark": landmark}) / MMHG
                 ax.fill_between(
-                    percent, spread.min(dim).values, spread.max(dim).values,
-                    color=drawn.get_color(), alpha=0.15, hatch=hatch,
+                    percent,
+                    spread.min(dim).values,
+                    spread.max(dim).values,
+                    color=drawn.get_color(),
+                    alpha=0.15,
+                    hatch=hatch,
                     label=f"{label}: spread over {dim.replace('_', ' ')}",
-                )  # fmt: skip
+                )
         for target in targets:
             if target["landmark"] == landmark:
                 ax.axhline(target_pa(target) / MMHG, color="k", ls="--", lw=0.8, label="target")

@@ -39,10 +39,14 @@ CONFIG_KEYS = {
 COORDINATES = {
     "tissue_modulus": {"units": "Pa", "long_name": "soft tissue Young's modulus (inf: rigid)"},
     "friction": {"units": "1", "long_name": "fabric-skin friction coefficient"},
-    "worn": {"units": "1", "long_name": "garment worn", "flag_values": [0, 1],
-             "flag_meanings": "new worn"},
+    "worn": {
+        "units": "1",
+        "long_name": "garment worn",
+        "flag_values": [0, 1],
+        "flag_meanings": "new worn",
+    },
     "lengthwise_reduction": {"units": "1", "long_name": "lengthwise (warp) pattern reduction"},
-}  # fmt: skip
+}
 
 
 def _number(value: Any) -> float:
@@ -130,9 +134,7 @@ class Variant:
 
 def sweep_variants(sweep: Mapping[str, Any]) -> list[tuple[dict, Variant]]:
     """Every variant of a sweep config, each with its index-entry keys (only the varied ones)."""
-    lists = {
-        key: list(sweep[CONFIG_KEYS[key]]) for key in KEYS if CONFIG_KEYS[key] in sweep
-    }  # fmt: skip
+    lists = {key: list(sweep[CONFIG_KEYS[key]]) for key in KEYS if CONFIG_KEYS[key] in sweep}
     out = []
     for values in itertools.product(*lists.values()):
         entry = dict(zip(lists, values, strict=True))

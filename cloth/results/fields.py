@@ -191,7 +191,7 @@ def lab_range_variables(state, strain: NDArray[np.float64]) -> dict:
         log.info(
             "%s springs (the fabric's %s): largest strain %.4g, lab curve measured to %.4g",
             label, direction, largest, limit,
-        )  # fmt: skip
+        )
         if np.any(beyond):
             ends = grid.ends[sl][beyond]
             flag[ends.ravel()] |= bit
@@ -199,7 +199,7 @@ def lab_range_variables(state, strain: NDArray[np.float64]) -> dict:
                 "%s springs (the fabric's %s) strained up to %.4g, beyond the lab curve's last "
                 "strain %.4g at %d springs: the curve is extrapolated there with its last slope",
                 label, direction, largest, limit, int(beyond.sum()),
-            )  # fmt: skip
+            )
         out[f"max_strain_{label}"] = xr.Variable(
             (), largest, {"units": "1", "long_name": f"largest {label} spring strain"}
         )
@@ -211,5 +211,5 @@ def lab_range_variables(state, strain: NDArray[np.float64]) -> dict:
         {"units": "1", "long_name": "node with a spring strained beyond the lab curve",
          "flag_values": np.array([0, 1, 2, 3], np.int8),
          "flag_meanings": "within weft_beyond warp_beyond both_beyond"},
-    )  # fmt: skip
+    )
     return out

@@ -126,7 +126,7 @@ def observed_order(near: float, far: float, r21: float, r32: float) -> float:
     if target >= _ratio_of_differences(high, r21, r32):
         return high
     return float(brentq(lambda p: _ratio_of_differences(p, r21, r32) - target, low, high,
-                        xtol=1e-12))  # fmt: skip
+                        xtol=1e-12))
 
 
 def richardson(

@@ -47,14 +47,14 @@ from numpy.typing import NDArray
 
 from cloth.bodies import Body
 from cloth.garment.grid import SLIDING, Grid, node_area
-from cloth.garment.mechanics import _operators
+from cloth.garment.mechanics import operators
 from cloth.garment.predeform import recut
 from cloth.garment.state import State
 from cloth.case.reading import Reading
 from cloth.results.bands import band_weights
 from cloth.results.landmarks import girth_line
 from cloth.solvers.activeset import held_nodes
-from cloth.solvers.linear import _factor
+from cloth.solvers.linear import lu_factor
 from cloth.solvers.newton import newton_matrix, stiffness_at
 from cloth.solvers.problem import Evaluation, Problem
 from cloth.solvers.stability import counts
@@ -189,7 +189,7 @@ def force_derivatives(
     grid = state.grid
     row_reduction = state.row_values("row_reduction")
     springs = ev.springs
-    incidence_t = _operators(grid).incidence_t
+    incidence_t = operators(grid).incidence_t
     out = np.empty((row_derivative.shape[1], grid.n_nodes, 3))
     for k in range(row_derivative.shape[1]):
         step = RECUT_STEP * row_derivative[:, k]
@@ -232,7 +232,7 @@ def sensitivities(
     d_forces = force_derivatives(state, ev, rows)  # (K, N, 3)
     projected = np.einsum("nij,knj->kni", projector, d_forces).reshape(len(d_forces), -1)
     if factor is None:
-        factor = _factor(matrix)
+        factor = lu_factor(matrix)
     turn = _direction_turn(ev.normal, problem.constraint, hessian_blocks)  # once, not per line
     area = node_area(ev.x, state.grid)
     direction = reaction_direction(ev.normal, problem.constraint)

@@ -34,6 +34,6 @@ class Target:
             raise InputError(
                 f"{text!r} is not a target; write LINE=PRESSURE with a positive pressure in "
                 "mmHg (default), kPa or Pa, e.g. waist=20 or hip=2.0kPa", field=field,
-            )  # fmt: skip
+            )
         unit = (match.group(3) or "mmHg").lower()
         return cls(match.group(1), value * UNITS[unit])

@@ -84,9 +84,14 @@ def coarse_state(state: State, around: int, rows: NDArray[np.intp]) -> State:
     width = weft[:, 0] * n  # each row's rest circumference, m
     v = grid.rest_uv[np.arange(grid.m) * n, 1]
     coarse = build_grid(
-        around, rows.size, width[rows], v[rows], grid_fabric(state.fabric, state.around),
-        closed=True, **state.moduli,
-    )  # fmt: skip
+        around,
+        rows.size,
+        width[rows],
+        v[rows],
+        grid_fabric(state.fabric, state.around),
+        closed=True,
+        **state.moduli,
+    )
     constraint = np.repeat(state.constraint.reshape(grid.m, n)[rows, 0], around)
     x = interpolate(state.x, grid, coarse)
     contact = np.zeros(coarse.n_nodes, dtype=np.int8)
@@ -127,9 +132,11 @@ def start_from_coarse(state: State, body: Body, settings: Settings, relax: Relax
     if not found:
         return state
     coarse = replace(
-        settings, continuation=False, tolerance=max(settings.tolerance, COARSE_TOLERANCE),
+        settings,
+        continuation=False,
+        tolerance=max(settings.tolerance, COARSE_TOLERANCE),
         progress=False,
-    )  # fmt: skip
+    )
     ladder = [state]
     for around, rows in found:  # each level's rows index the level above's rows
         ladder.append(coarse_state(ladder[-1], around, rows))
@@ -143,15 +150,22 @@ def start_from_coarse(state: State, body: Body, settings: Settings, relax: Relax
         except Diverged as failure:
             log.warning(
                 "continuation: the %d x %d level diverged (%s); the %d x %d grid starts from "
-                "its own positions", level.grid.n, level.grid.m, failure, state.grid.n,
+                "its own positions",
+                level.grid.n,
+                level.grid.m,
+                failure,
+                state.grid.n,
                 state.grid.m,
-            )  # fmt: skip
+            )
             return state
         log.info(
             "continuation: %d x %d relaxed in %d iterations (residual %.2e), %.2f s",
-            level.grid.n, level.grid.m, result.iterations, result.final.residual,
+            level.grid.n,
+            level.grid.m,
+            result.iterations,
+            result.final.residual,
             time.perf_counter() - start,
-        )  # fmt: skip
+        )
         x, grid, held = result.final.x, level.grid, result.final.on_body
     return state.with_positions(carry_contact(x, held, grid, state, body))
 
@@ -166,8 +180,9 @@ def carry_contact(
     placed = keep_constraints(interpolate(x, source, target.grid), target)
     if target.skin.tissue is not None:
         return placed  # the skin gives way: its nodes stay where the coarse answer sank them
-    flags = interpolate(np.repeat(np.asarray(held, float)[:, None], 3, axis=1), source,
-                        target.grid)[:, 0]  # fmt: skip
+    flags = interpolate(
+        np.repeat(np.asarray(held, float)[:, None], 3, axis=1), source, target.grid
+    )[:, 0]
     hold = (flags > 1.0 - 1e-9) & (target.constraint != FIXED)
     return Problem(target.grid, body, target.constraint).project_out(placed, hold)
 

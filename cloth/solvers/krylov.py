@@ -66,9 +66,15 @@ def gmres_on(
     with np.errstate(all="ignore"):
         try:
             y, info = gmres(
-                operator, rhs, rtol=rtol, atol=0.0, restart=KRYLOV_LIMIT, maxiter=1,
-                callback=tick, callback_type="pr_norm",
-            )  # fmt: skip
+                operator,
+                rhs,
+                rtol=rtol,
+                atol=0.0,
+                restart=KRYLOV_LIMIT,
+                maxiter=1,
+                callback=tick,
+                callback_type="pr_norm",
+            )
         except _GiveUp:
             return None, count[0]
     if info != 0:

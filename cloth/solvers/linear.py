@@ -157,7 +157,7 @@ class Reuse:
             self.fallbacks += 1
             log.debug("GMRES on the Cholesky preconditioner gave up; SuperLU factorises")
             self.factor = None
-            self.factor = _factor(matrix)
+            self.factor = lu_factor(matrix)
         self.krylov.append(0)
         return self.factor.solve(rhs)
 
@@ -167,7 +167,7 @@ class Reuse:
             return self._cholmod(matrix)
         if self.backend == "pardiso":
             return self._pardiso(matrix)
-        return _factor(matrix)
+        return lu_factor(matrix)
 
     def _same_pattern(self, matrix: sp.csr_matrix | sp.csc_matrix) -> bool:
         """Whether ``matrix`` (indices sorted) has the analysed pattern; it is kept if not."""
@@ -325,31 +325,37 @@ def factorisations() -> int:
 DISSECT_FROM = 30_000
 
 
-def _factor(matrix: sp.csr_matrix, dissect: bool | None = None):
-    """SuperLU's factor of ``matrix`` (counted), tuned for these symmetric systems: no
+def lu_factor(matrix: sp.csr_matrix, dissect: bool | None = None):
+    """SuperLU's factor of ``matrix`` (counted; a SuperLU object or a `PermutedLU`, both with
+    ``solve(rhs)``), tuned for these symmetric systems: no
     pivoting, symmetric mode, and from `DISSECT_FROM` unknowns (or where ``dissect``) in the
     nested-dissection order of its node graph (`cloth.solvers.ordering`; 2.4x faster to
-    factorise at 100k nodes than SuperLU's minimum degree, MMD(A^T + A), taken below)."""
+    factorise at 100k nodes than SuperLU's minimum degree, MMD(A^T + A), taken below). Public:
+    the adjoint, the saddle-point solve and the stability count (inertia) factorise through it."""
     from scipy.sparse.linalg import splu
 
     global _factorisations
     _factorisations += 1
     if not (matrix.shape[0] >= DISSECT_FROM if dissect is None else dissect):
         return splu(
-            sp.csc_matrix(matrix), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
+            sp.csc_matrix(matrix),
+            permc_spec="MMD_AT_PLUS_A",
+            diag_pivot_thresh=0.0,
             options={"SymmetricMode": True},
-        )  # fmt: skip
+        )
     csc = sp.csc_matrix(matrix)
     csc.sort_indices()
     reordering = reordering_for(csc)
     lu = splu(
-        reordering.apply(csc), permc_spec="NATURAL", diag_pivot_thresh=0.0,
+        reordering.apply(csc),
+        permc_spec="NATURAL",
+        diag_pivot_thresh=0.0,
         options={"SymmetricMode": True},
-    )  # fmt: skip
-    return _Permuted(lu, reordering.order)
+    )
+    return PermutedLU(lu, reordering.order)
 
 
-class _Permuted:
+class PermutedLU:
     """A factor of P A P^T (``order`` the permutation P's rows) with ``solve`` for A."""
 
     def __init__(self, lu, order: NDArray[np.intp]) -> None:
@@ -367,7 +373,7 @@ def _solve(
 ) -> NDArray[np.float64]:
     global _factorisations
     if name == "superlu":
-        factor = _factor(matrix)
+        factor = lu_factor(matrix)
         if keep is not None:
             keep.append(factor)
         return factor.solve(rhs)

@@ -178,9 +178,12 @@ class Newton:
 
 
 def newton_step(
-    problem: Problem, ev: Evaluation, solver: str, reuse: Reuse | None = None,
+    problem: Problem,
+    ev: Evaluation,
+    solver: str,
+    reuse: Reuse | None = None,
     kept: list | None = None,
-) -> tuple[Evaluation, float, bool]:  # fmt: skip
+) -> tuple[Evaluation, float, bool]:
     """One Newton iteration with line search: (new evaluation, largest move in m, accepted);
     ``kept`` gets SuperLU's factor of the exact matrix where the move came from one."""
     k = stiffness_at(problem, ev)

@@ -13,7 +13,7 @@ from cloth.contact.friction import Friction
 from cloth.contact.skin import skin_models
 from cloth.contact.tissue import Layer
 from cloth.garment.grid import FIXED, SLIDING, Grid
-from cloth.garment.mechanics import SpringState, _operators, energy, spring_forces, spring_state
+from cloth.garment.mechanics import SpringState, energy, operators, spring_forces, spring_state
 from cloth.garment.state import State
 from cloth.solvers.common import (
     CONTACT_TOLERANCE,
@@ -142,7 +142,7 @@ class Problem:
         is known (`settle`), else the body is queried."""
         springs = spring_state(x, self.grid)
         spring_force = spring_forces(springs, self.grid)
-        forces = -(_operators(self.grid).incidence_t @ spring_force)
+        forces = -(operators(self.grid).incidence_t @ spring_force)
         distance, closest, normal = self.body.query(x) if query is None else query
         work = energy(x, self.grid, springs)
         loads, friction, indentation = forces, None, None

@@ -61,8 +61,15 @@ class Result:
     def diverged(cls, error: Diverged, final: Evaluation, settings: Settings) -> Result:
         """A run that diverged (`Diverged`): ``final``, its last finite positions evaluated,
         not converged, after the iterations its history holds."""
-        return cls(final, error.history, False, len(error.history) - 1, settings.method,
-                   settings.linear_solver, 0.0)  # fmt: skip
+        return cls(
+            final,
+            error.history,
+            False,
+            len(error.history) - 1,
+            settings.method,
+            settings.linear_solver,
+            0.0,
+        )
 
 
 def _record(history: History, problem: Problem, ev: Evaluation, step: float, method: int) -> None:
@@ -152,8 +159,9 @@ def _relax(
                     if not step.ok:
                         log.warning(
                             "%s: the line search found no decrease at residual %.3e; stopping",
-                            stepper.name, ev.residual,
-                        )  # fmt: skip
+                            stepper.name,
+                            ev.residual,
+                        )
                         break
             if not problem.lagged:
                 newton = _newton(phases)
@@ -173,9 +181,12 @@ def _relax(
                 escapes += 1
                 log.warning(
                     "%s: the equilibrium is a saddle (%d unstable modes); moving along them "
-                    "and converging again (%d of at most %d)", newton.name, modes, escapes,
+                    "and converging again (%d of at most %d)",
+                    newton.name,
+                    modes,
+                    escapes,
                     saddle.MAX_ESCAPES,
-                )  # fmt: skip
+                )
                 ev, newton.factor = moved, None
                 phases = [(newton, settings.max_iterations)]
                 continue
@@ -191,8 +202,11 @@ def _relax(
     if problem.lagged and change > lagged.LAG_TOLERANCE:
         log.warning(
             "the skin models' lagged normal forces and areas still changed by %.2e after %d "
-            "solves (tolerance %.0e)", change, lags, lagged.LAG_TOLERANCE,
-        )  # fmt: skip
+            "solves (tolerance %.0e)",
+            change,
+            lags,
+            lagged.LAG_TOLERANCE,
+        )
     converged = ev.residual <= settings.tolerance and change <= lagged.LAG_TOLERANCE
     seconds = time.perf_counter() - start
     message = (
@@ -207,22 +221,39 @@ def _relax(
         (log.warning if turns else log.info)(
             "turning gauge: node %d holds the garment against turning about the body with "
             "%.3g N (%.2g of a typical spring force)%s",
-            problem.gauge, ev.turning, share,
+            problem.gauge,
+            ev.turning,
+            share,
             "; frictionless, the garment would turn: the body's shape has a handedness"
-            if turns else "",
-        )  # fmt: skip
+            if turns
+            else "",
+        )
     count = factorisations() - factorised
     peak = peak_memory()
     log.info("%d linear factorisations; peak memory %.0f MiB", count, peak / 2**20)
     modes = modes if converged else None
     if escapes:
         (log.info if modes == 0 else log.warning)(
-            "left %d saddle%s: the equilibrium has %s unstable modes", escapes,
-            "" if escapes == 1 else "s", modes,
-        )  # fmt: skip
-    return Result(ev, history, converged, iterations, settings.method, solver, seconds, count,
-                  peak, lags, _friction_fields(problem, ev), modes,
-                  kept if converged else None)  # fmt: skip
+            "left %d saddle%s: the equilibrium has %s unstable modes",
+            escapes,
+            "" if escapes == 1 else "s",
+            modes,
+        )
+    return Result(
+        ev,
+        history,
+        converged,
+        iterations,
+        settings.method,
+        solver,
+        seconds,
+        count,
+        peak,
+        lags,
+        _friction_fields(problem, ev),
+        modes,
+        kept if converged else None,
+    )
 
 
 def _newton(phases: list) -> Newton | None:

@@ -22,7 +22,7 @@ import numpy as np
 
 from cloth.solvers.activeset import held_nodes
 from cloth.solvers.explicit import shortest_rest
-from cloth.solvers.linear import _factor
+from cloth.solvers.linear import lu_factor
 from cloth.solvers.newton import SADDLE_RESIDUAL, Newton, stiffness_at
 from cloth.solvers.problem import Evaluation, Problem
 from cloth.solvers.stability import exact_matrix, negative_direction
@@ -58,7 +58,7 @@ def equilibrium_factor(problem: Problem, ev: Evaluation, newton: Newton | None):
     """SuperLU's unpivoted factor of the exact constrained Newton matrix at ``ev``: the run's
     own (`kept_factor`) or a fresh one (one factorisation, counted)."""
     kept = kept_factor(problem, newton, ev)
-    return kept if kept is not None else _factor(exact_matrix(problem, ev))
+    return kept if kept is not None else lu_factor(exact_matrix(problem, ev))
 
 
 def downhill(problem: Problem, ev: Evaluation, factor) -> Evaluation | None:
@@ -90,7 +90,8 @@ def downhill(problem: Problem, ev: Evaluation, factor) -> Evaluation | None:
             alpha *= 0.5
     if best is not None:
         log.info(
-            "saddle: moved along its unstable modes, energy %.10g -> %.10g J", ev.energy,
+            "saddle: moved along its unstable modes, energy %.10g -> %.10g J",
+            ev.energy,
             best.energy,
-        )  # fmt: skip
+        )
     return best

@@ -12,7 +12,7 @@ the waist make saddles on fine grids (a compressed spring's Hessian is A sigma /
 it: a membrane without bending stiffness buckles).
 
 The count comes from one unpivoted LU of the symmetric matrix (SuperLU in symmetric mode with
-no pivoting, `cloth.solvers.linear._factor`): Q A Q^T = L U with U = D L^T, so by Sylvester's
+no pivoting, `cloth.solvers.linear.lu_factor`): Q A Q^T = L U with U = D L^T, so by Sylvester's
 law of inertia the signs of U's diagonal are those of A's eigenvalues. A factor whose rows
 SuperLU pivoted after all (it met an exact zero) is not a congruence, and is refused.
 """
@@ -25,7 +25,7 @@ from numpy.typing import NDArray
 
 from cloth.bodies import MeshBody
 from cloth.solvers.activeset import held_nodes
-from cloth.solvers.linear import _factor, _Permuted
+from cloth.solvers.linear import PermutedLU, lu_factor
 from cloth.solvers.newton import newton_matrix, stiffness_at
 from cloth.solvers.problem import Evaluation, Problem
 
@@ -36,19 +36,19 @@ def negative_eigenvalues(matrix: sp.spmatrix) -> int:
     ValueError where the matrix is not square or the factorisation had to pivot."""
     if matrix.ndim != 2 or matrix.shape[0] != matrix.shape[1]:
         raise ValueError(f"expected a square (n, n) matrix, got shape {matrix.shape}")
-    return factor_inertia(_factor(sp.csr_matrix(matrix)))
+    return factor_inertia(lu_factor(sp.csr_matrix(matrix)))
 
 
 def _unpivoted(factor):
-    """SuperLU's own LU of ``factor`` (`cloth.solvers.linear._factor`), or None where it
+    """SuperLU's own LU of ``factor`` (`cloth.solvers.linear.lu_factor`), or None where it
     pivoted rows after all (an exactly zero pivot): its pivots are then no congruence."""
-    lu = factor.lu if isinstance(factor, _Permuted) else factor
+    lu = factor.lu if isinstance(factor, PermutedLU) else factor
     return lu if np.array_equal(lu.perm_r, lu.perm_c) else None
 
 
 def factor_inertia(factor) -> int:
     """The negative eigenvalues of the symmetric matrix SuperLU's unpivoted ``factor``
-    (`cloth.solvers.linear._factor`) is of: its negative pivots (module docstring). ValueError
+    (`cloth.solvers.linear.lu_factor`) is of: its negative pivots (module docstring). ValueError
     where SuperLU pivoted rows after all."""
     lu = _unpivoted(factor)
     if lu is None:
@@ -76,7 +76,7 @@ def negative_direction(factor, size: int) -> NDArray[np.float64] | None:
     rhs = lu.L.tocsc()[:, negative] @ pivots[negative]
     permute = sp.csc_matrix((np.ones(size), (np.arange(size), lu.perm_c)), shape=(size, size))
     inner = lu.solve(permute @ rhs)
-    if not isinstance(factor, _Permuted):
+    if not isinstance(factor, PermutedLU):
         return inner
     move = np.empty(size)
     move[factor.order] = inner

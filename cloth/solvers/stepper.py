@@ -59,9 +59,13 @@ class LogLine:
             log.info(
                 "%s iteration %d: residual %.3e, energy %.9g J, %d nodes on the body, "
                 "penetration %.2e m",
-                stepper.name, iteration, ev.residual, ev.energy, history.contacts[-1],
+                stepper.name,
+                iteration,
+                ev.residual,
+                ev.energy,
+                history.contacts[-1],
                 ev.penetration,
-            )  # fmt: skip
+            )
 
 
 class ProgressBar:
@@ -72,8 +76,14 @@ class ProgressBar:
         from tqdm import tqdm
 
         show = settings.progress
-        self.bar = tqdm(total=total, disable=show is False if show is not None else None,
-                        desc="relax", unit="it", miniters=1, leave=False)  # fmt: skip
+        self.bar = tqdm(
+            total=total,
+            disable=show is False if show is not None else None,
+            desc="relax",
+            unit="it",
+            miniters=1,
+            leave=False,
+        )
 
     def __call__(self, iteration: int, stepper: Stepper, step: Step, history: History) -> None:
         self.bar.update(1)

@@ -66,10 +66,13 @@ def describe(
             feet = fitted.closest(np.concatenate([body.vertices, centres]))
             k1, k2 = fitted.curvature(feet)
             plot_body_field(
-                feet, 0.5 * (k1 + k2), "mean curvature [1/m] (positive: convex)", curvature,
+                feet,
+                0.5 * (k1 + k2),
+                "mean curvature [1/m] (positive: convex)",
+                curvature,
                 title=f"{path.name}: mean curvature of the smooth contact surface "
                 f"(sigma {fit.smoothing * 1e3:.3g} mm)",
-            )  # fmt: skip
+            )
             lines.append(f"curvature figure: {curvature}")
     else:
         lines.append("contact surface: the mesh's facets (surface: mesh)")

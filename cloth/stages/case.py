@@ -39,8 +39,7 @@ from cloth.stages.results import figures, view, write_result
 log = logging.getLogger("cloth")
 
 #: Keys of a case's ``solver`` block that a command line may override.
-SOLVER_KEYS = ("method", "tolerance", "max_iterations", "linear_solver", "log_every",
-               "warm_start")  # fmt: skip
+SOLVER_KEYS = ("method", "tolerance", "max_iterations", "linear_solver", "log_every", "warm_start")
 
 
 def check_fits(stages: tuple[str, ...], case: Case, base_dir: Path, source, force: bool):
@@ -69,9 +68,12 @@ def initial_state(case: Case | dict, base_dir: str | Path = ".", source: str = "
 
 
 def predeform_file(
-    case_path: Path, output: Path, base_dir: Path | None = None, plot: Path | None = None,
+    case_path: Path,
+    output: Path,
+    base_dir: Path | None = None,
+    plot: Path | None = None,
     force: bool = False,
-):  # fmt: skip
+):
     """case.yaml -> initial.nc (and a 3D figure of the wrapped garment); returns the state.
     Relative paths in the case are relative to ``base_dir`` (default: the case's folder)."""
     case = load_case(case_path)
@@ -90,9 +92,15 @@ def _plot_wrapped(state, path: Path, name: str) -> None:
     strain = spring_state(state.x, grid).strain[grid.family_slices[0]]
     body = body_from_record(state.body)
     plot_garment_3d(
-        state.x, grid.n, grid.m, strain, "initial weft strain [1]", path, body,
+        state.x,
+        grid.n,
+        grid.m,
+        strain,
+        "initial weft strain [1]",
+        path,
+        body,
         title=f"{name}: garment wrapped on the body (before relaxation)",
-    )  # fmt: skip
+    )
 
 
 def relax_state(state, overrides: dict, output: Path, previous: dict | None = None) -> None:
@@ -125,9 +133,12 @@ def relax_state(state, overrides: dict, output: Path, previous: dict | None = No
     if refined is not None:
         ds = ds.assign(levels_dataset(refined.levels, heights))
         ds.attrs.update(
-            grid_auto=1, grid_accuracy=garment.accuracy, grid_max_nodes=garment.max_nodes,
-            grid_met=refined.met, grid_worst_error=refined.worst,
-        )  # fmt: skip
+            grid_auto=1,
+            grid_accuracy=garment.accuracy,
+            grid_max_nodes=garment.max_nodes,
+            grid_met=refined.met,
+            grid_worst_error=refined.worst,
+        )
     elif garment.error_estimate:
         levels = relax_levels(relaxed, body, settings, heights, LEVELS)
         ds = ds.assign(levels_dataset(levels, heights))
@@ -162,9 +173,13 @@ def relax_file(initial: Path, output: Path, overrides: dict, force: bool = False
 
 
 def run_case(
-    case_path: Path, folder: Path, overrides: dict, base_dir: Path | None = None,
-    stop_after: str | None = None, force: bool = False,
-) -> None:  # fmt: skip
+    case_path: Path,
+    folder: Path,
+    overrides: dict,
+    base_dir: Path | None = None,
+    stop_after: str | None = None,
+    force: bool = False,
+) -> None:
     """Every stage of one case into ``folder``: initial.nc, relaxed.nc, result.nc, summary.csv,
     figures/ and garment.html (where plotly is installed); ``stop_after`` one of predeform,
     relax, aggregate."""

@@ -130,8 +130,9 @@ def _start(state: State, body: Body, targets: list[Target], source: str) -> Stat
     if garment.reduction is None:
         raise InputError(
             "a design needs a graded pattern; give garment.reduction, not circumference",
-            source, "garment.reduction",
-        )  # fmt: skip
+            source,
+            "garment.reduction",
+        )
     profile = garment.reduction_profile
     if not profile.uniform:
         return state
@@ -162,30 +163,38 @@ def _is_height(text: str) -> bool:
 
 
 def design(
-    state: State, body: Body, targets: list[Target], tolerance: float = TOLERANCE,
+    state: State,
+    body: Body,
+    targets: list[Target],
+    tolerance: float = TOLERANCE,
     source: str = "case",
-) -> Design:  # fmt: skip
+) -> Design:
     """The design loop (module docstring) from the pre-deformed ``state`` of a case on
     ``body``; `InputError` naming ``source`` for a target line the body does not have."""
     settings = replace(state.case.solver, progress=False)
     if not counts(Problem.of(state, body)):
         field = (
-            "body.tissue" if state.skin.tissue is not None
-            else "contact.friction" if state.skin.contact.friction > 0 else "body.surface"
-        )  # fmt: skip
+            "body.tissue"
+            if state.skin.tissue is not None
+            else "contact.friction"
+            if state.skin.contact.friction > 0
+            else "body.surface"
+        )
         raise InputError(
             "the design's sensitivities take a smooth body without tissue or friction; remove "
             "the skin model, or give the mesh surface: smooth (docs/solvers.md, Sensitivities)",
-            source, field,
-        )  # fmt: skip
+            source,
+            field,
+        )
     state = _height_lines(state, body, targets, source)
     heights = landmark_heights(state)
     unknown = [t.line for t in targets if t.line not in heights]
     if unknown:
         raise InputError(
             f"no girth line {unknown[0]!r} on this body; its lines: {', '.join(heights)}",
-            source, "targets",
-        )  # fmt: skip
+            source,
+            "targets",
+        )
     lines = {t.line: heights[t.line] for t in targets}
     order = sorted(lines, key=lines.__getitem__)
     goal = np.array([next(t.pressure for t in targets if t.line == name) for name in order])
@@ -222,10 +231,18 @@ def design(
     if not np.all(np.abs(sens.means - goal) <= tolerance):
         shortfall = _shortfall(order, sens, goal, values, tolerance, pinned, upper)
     return Design(
-        knots=state.case.garment.reduction_profile.keys, values=values, lines=tuple(order),
-        targets=goal, achieved=sens.means, iterates=tuple(iterates), solves=solves,
-        tolerance=tolerance, state=state, shortfall=shortfall, uniform=uniform,
-    )  # fmt: skip
+        knots=state.case.garment.reduction_profile.keys,
+        values=values,
+        lines=tuple(order),
+        targets=goal,
+        achieved=sens.means,
+        iterates=tuple(iterates),
+        solves=solves,
+        tolerance=tolerance,
+        state=state,
+        shortfall=shortfall,
+        uniform=uniform,
+    )
 
 
 def _iterate(values: NDArray, sens: Sensitivity, result: Result) -> Iterate:
@@ -234,16 +251,23 @@ def _iterate(values: NDArray, sens: Sensitivity, result: Result) -> Iterate:
 
 def _log(solves: int, values: NDArray, means: NDArray, goal: NDArray) -> None:
     log.info(
-        "design: equilibrium %d, knots %s, lines %s mmHg (targets %s)", solves,
-        np.round(values, 4).tolist(), np.round(means / MMHG, 2).tolist(),
+        "design: equilibrium %d, knots %s, lines %s mmHg (targets %s)",
+        solves,
+        np.round(values, 4).tolist(),
+        np.round(means / MMHG, 2).tolist(),
         np.round(goal / MMHG, 2).tolist(),
-    )  # fmt: skip
+    )
 
 
 def _uniform(
-    state: State, body: Body, settings: Settings, sens: Sensitivity, goal: NDArray,
-    upper: NDArray, lines: dict[str, float],
-) -> tuple[float, NDArray[np.float64]]:  # fmt: skip
+    state: State,
+    body: Body,
+    settings: Settings,
+    sens: Sensitivity,
+    goal: NDArray,
+    upper: NDArray,
+    lines: dict[str, float],
+) -> tuple[float, NDArray[np.float64]]:
     """The uniform answer (`Design.uniform`): one Gauss-Newton step of the case's uniform
     reduction alone, to the least squares of the misses, within the bounds; its equilibrium's
     line means (one equilibrium, warm-started)."""
@@ -266,8 +290,10 @@ def _check_lines(
     raise InputError(
         f"girth line {beyond!r} at {lines[beyond]:.4g} m is beyond the garment "
         f"({state.case.garment.bottom:.4g}-{state.case.garment.top:.4g} m); target a line "
-        "the garment covers", source, "targets",
-    )  # fmt: skip
+        "the garment covers",
+        source,
+        "targets",
+    )
 
 
 def lab_caps(state: State, result: Result, heights: dict[str, float]) -> NDArray[np.float64]:
@@ -308,8 +334,9 @@ def bounded_step(
         lines = _lines_left(jacobian, pinned)
         step[free] = (
             np.linalg.lstsq(jacobian[np.ix_(lines, free)], rhs[lines], rcond=None)[0]
-            if free.any() and lines.any() else 0.0
-        )  # fmt: skip
+            if free.any() and lines.any()
+            else 0.0
+        )
         trial = values + step
         out = free & ((trial < lower - 1e-12) | (trial > upper + 1e-12))
         if not out.any():
@@ -338,9 +365,14 @@ def _sensitivities(
 
 
 def _shortfall(
-    order: list[str], sens: Sensitivity, goal: NDArray, values: NDArray, tolerance: float,
-    pinned: NDArray[np.bool_], upper: NDArray,
-) -> str:  # fmt: skip
+    order: list[str],
+    sens: Sensitivity,
+    goal: NDArray,
+    values: NDArray,
+    tolerance: float,
+    pinned: NDArray[np.bool_],
+    upper: NDArray,
+) -> str:
     """One line: the worst line missed, the closest pressure reached, the bounds that bind."""
     miss = sens.means - goal
     worst = int(np.argmax(np.abs(miss)))

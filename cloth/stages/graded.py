@@ -45,9 +45,12 @@ log = logging.getLogger(__name__)
 
 
 def design_files(
-    case_path: Path, targets: list[Target], output: Path, tolerance: float = TOLERANCE,
+    case_path: Path,
+    targets: list[Target],
+    output: Path,
+    tolerance: float = TOLERANCE,
     base_dir: Path | None = None,
-) -> Design:  # fmt: skip
+) -> Design:
     """The design of ``case_path`` to ``targets`` and its files in ``output`` (module
     docstring); `InputError` after writing them when a target is out of reach."""
     if not targets:
@@ -74,9 +77,11 @@ def design_files(
     met = all(row["met"] for row in rows)
     log.info(
         "design: %s in %d equilibria (%d in the loop, 1 confirmation)%s",
-        "every target met" if met else "NOT every target met", result.solves + 1,
-        result.solves, "" if "dxf" in formats else "; no DXF (pip install 'cloth[pattern]')",
-    )  # fmt: skip
+        "every target met" if met else "NOT every target met",
+        result.solves + 1,
+        result.solves,
+        "" if "dxf" in formats else "; no DXF (pip install 'cloth[pattern]')",
+    )
     if result.shortfall is not None:
         raise InputError(result.shortfall, case_path, "targets")
     if not met:
@@ -85,8 +90,9 @@ def design_files(
             f"{worst['landmark']}: confirmed at {worst['confirmed_mmHg']:.2f} mmHg from scratch, "
             f"target {worst['target_mmHg']:.2f} +- {tolerance / MMHG:.2g} mmHg; the loop's "
             "equilibrium and the one from scratch differ (see design_confirmed.csv)",
-            case_path, "targets",
-        )  # fmt: skip
+            case_path,
+            "targets",
+        )
     return result
 
 
@@ -132,8 +138,12 @@ def _confirmed_rows(result: Design, confirmed: xr.Dataset) -> list[dict[str, obj
         if result.uniform is not None:
             row["uniform_reduction"] = result.uniform[0]
             row["uniform_mmHg"] = float(result.uniform[1][k]) / MMHG
-        row.update({f"reduction_{key}": float(v) for key, v in zip(result.knots, result.values,
-                                                                     strict=True)})  # fmt: skip
+        row.update(
+            {
+                f"reduction_{key}": float(v)
+                for key, v in zip(result.knots, result.values, strict=True)
+            }
+        )
         row["equilibria"] = result.solves + 1
         rows.append(row)
     return rows
@@ -146,15 +156,31 @@ def plot_profile_design(rows: list[dict[str, object]], path: Path) -> Path:
     fig, ax = plt.subplots(figsize=(5.5, 4.2), layout="constrained")
     ax.plot([row["target_mmHg"] for row in rows], height, "k*", ms=11, label="target")
     if "uniform_mmHg" in rows[0]:
-        ax.plot([row["uniform_mmHg"] for row in rows], height, "s--", color="tab:gray",
-                label=f"uniform reduction {float(rows[0]['uniform_reduction']):.3f}")  # fmt: skip
+        ax.plot(
+            [row["uniform_mmHg"] for row in rows],
+            height,
+            "s--",
+            color="tab:gray",
+            label=f"uniform reduction {float(rows[0]['uniform_reduction']):.3f}",
+        )
     error = np.array([row["confirmed_error_mmHg"] for row in rows], dtype=float)
-    ax.errorbar([row["confirmed_mmHg"] for row in rows], height,
-                xerr=np.where(np.isfinite(error), error, 0.0), fmt="o-", color="tab:red",
-                capsize=3, label="graded pattern (confirmed)")  # fmt: skip
+    ax.errorbar(
+        [row["confirmed_mmHg"] for row in rows],
+        height,
+        xerr=np.where(np.isfinite(error), error, 0.0),
+        fmt="o-",
+        color="tab:red",
+        capsize=3,
+        label="graded pattern (confirmed)",
+    )
     for row, z in zip(rows, height, strict=True):
-        ax.annotate(str(row["landmark"]), (float(row["target_mmHg"]), z), xytext=(6, 4),
-                    textcoords="offset points", fontsize=8)  # fmt: skip
+        ax.annotate(
+            str(row["landmark"]),
+            (float(row["target_mmHg"]), z),
+            xytext=(6, 4),
+            textcoords="offset points",
+            fontsize=8,
+        )
     ax.set_xlabel("mean pressure on the girth line [mmHg]")
     ax.set_ylabel("height [m]")
     ax.set_title("graded pattern to a pressure profile", fontsize=10)

@@ -19,9 +19,12 @@ log = logging.getLogger("cloth")
 
 
 def ingest_material(
-    tables: Sequence[Path], directions: Sequence[str] | None, options, output: Path,
+    tables: Sequence[Path],
+    directions: Sequence[str] | None,
+    options,
+    output: Path,
     plot: Path | None = None,
-) -> None:  # fmt: skip
+) -> None:
     """Read ``tables`` (one per direction in ``directions``, or directions from their columns)
     with `cloth.materials.labtables.IngestOptions` ``options`` into ``output``; log each
     curve's fit."""
@@ -40,15 +43,23 @@ def ingest_material(
         report = data.report
         log.info(
             "%s: %d knots, fit error max %.4g Pa (%.3g %%), rms %.4g Pa (%.3g %%)",
-            direction, material.fabric.curve(direction).n_knots, report.max_error,
-            report.max_error_percent, report.rms_error, report.rms_error_percent,
-        )  # fmt: skip
+            direction,
+            material.fabric.curve(direction).n_knots,
+            report.max_error,
+            report.max_error_percent,
+            report.rms_error,
+            report.rms_error_percent,
+        )
 
 
 def torso_file(
-    size: str, chart: Path | None, girths_cm: dict[str, float], around: int, rings: int,
+    size: str,
+    chart: Path | None,
+    girths_cm: dict[str, float],
+    around: int,
+    rings: int,
     output: Path,
-) -> None:  # fmt: skip
+) -> None:
     """The parametric torso of ``size`` in ``chart`` (girths overridden in cm) as a mesh."""
     import dataclasses
 
@@ -75,6 +86,10 @@ def _write_mesh(vertices, faces, output: Path, what: str, girth: dict[str, float
     with atomic_output(output) as tmp:
         mesh.export(tmp, file_type=suffix)
     log.info(
-        "wrote %s: %s, %d vertices, %d faces, girths (m) %s", output, what, len(vertices),
-        len(faces), ", ".join(f"{k} {v:.4g}" for k, v in girth.items()),
-    )  # fmt: skip
+        "wrote %s: %s, %d vertices, %d faces, girths (m) %s",
+        output,
+        what,
+        len(vertices),
+        len(faces),
+        ", ".join(f"{k} {v:.4g}" for k, v in girth.items()),
+    )

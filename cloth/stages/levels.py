@@ -68,9 +68,16 @@ def coarser_grids(grid: tuple[int, int], count: int) -> list[tuple[int, int]]:
 def girth_marks(state: State, final: Evaluation, heights: dict[str, float]) -> tuple[Landmark, ...]:
     """The girth-line summaries of ``state``'s grid at the equilibrium ``final``."""
     fields = node_fields(
-        state.grid, final.x, final.springs, state.fabric.thickness, final.forces,
-        final.unbalanced, final.on_body, final.normal, state.constraint,
-    )  # fmt: skip
+        state.grid,
+        final.x,
+        final.springs,
+        state.fabric.thickness,
+        final.forces,
+        final.unbalanced,
+        final.on_body,
+        final.normal,
+        state.constraint,
+    )
     return tuple(landmarks(heights, final.x, fields, state.grid, state.case.reading))
 
 
@@ -88,9 +95,12 @@ def relax_level(
         return Level(grid, (), False, time.perf_counter() - start)
     seconds = time.perf_counter() - start
     log.info(
-        "levels: %d x %d relaxed in %d iterations (residual %.2e), %.2f s", *grid,
-        result.iterations, result.final.residual, seconds,
-    )  # fmt: skip
+        "levels: %d x %d relaxed in %d iterations (residual %.2e), %.2f s",
+        *grid,
+        result.iterations,
+        result.final.residual,
+        seconds,
+    )
     return Level(grid, girth_marks(coarse, result.final, heights), result.converged, seconds)
 
 
@@ -102,9 +112,15 @@ def relax_levels(
     if count and len(grids) < count:
         log.warning(
             "levels: a %d x %d grid has %d coarser level%s of at least %d x %d, not %d: no error "
-            "estimate", state.grid.n, state.grid.m, len(grids), "" if len(grids) == 1 else "s",
-            MIN_AROUND, MIN_ROWS, count,
-        )  # fmt: skip
+            "estimate",
+            state.grid.n,
+            state.grid.m,
+            len(grids),
+            "" if len(grids) == 1 else "s",
+            MIN_AROUND,
+            MIN_ROWS,
+            count,
+        )
     if len(grids) < 2:  # one level shows no order
         return []
     return [relax_level(state, body, settings, grid, heights) for grid in grids]
@@ -157,8 +173,12 @@ def refine(start: State, body: Body, settings: Settings, accuracy: float, cap: i
         except Diverged as failure:
             if not runs:
                 raise
-            log.warning("grid auto: the %d x %d grid diverged (%s); the result is the grid "
-                        "before", state.grid.n, state.grid.m, failure)  # fmt: skip
+            log.warning(
+                "grid auto: the %d x %d grid diverged (%s); the result is the grid before",
+                state.grid.n,
+                state.grid.m,
+                failure,
+            )
             break
         runs = [*runs[-2:], (state, result)]
         heights = landmark_heights(state.with_positions(result.final.x))
@@ -166,8 +186,14 @@ def refine(start: State, body: Body, settings: Settings, accuracy: float, cap: i
         if len(levels) == 2:
             grid = (state.grid.n, state.grid.m)
             worst, which = worst_error(grid, girth_marks(state, result.final, heights), levels)
-            log.info("grid auto: %d x %d, largest stated error of a girth-line mean %.3g %% "
-                     "(%s; asked %.3g %%)", *grid, 100 * worst, which, 100 * accuracy)  # fmt: skip
+            log.info(
+                "grid auto: %d x %d, largest stated error of a girth-line mean %.3g %% "
+                "(%s; asked %.3g %%)",
+                *grid,
+                100 * worst,
+                which,
+                100 * accuracy,
+            )
             if worst <= accuracy:
                 met = "accuracy"
                 log.info("grid auto: %d x %d meets the accuracy asked", *grid)
@@ -176,9 +202,16 @@ def refine(start: State, body: Body, settings: Settings, accuracy: float, cap: i
         if n * m > cap:
             log.warning(
                 "grid auto: the next grid (%d x %d) would pass max_nodes %d; stopping at %d x %d "
-                "with a largest stated error of %.3g %% (%s; asked %.3g %%)", n, m, cap,
-                state.grid.n, state.grid.m, 100 * worst, which, 100 * accuracy,
-            )  # fmt: skip
+                "with a largest stated error of %.3g %% (%s; asked %.3g %%)",
+                n,
+                m,
+                cap,
+                state.grid.n,
+                state.grid.m,
+                100 * worst,
+                which,
+                100 * accuracy,
+            )
             break
         state = predeform(start.case, start.fabric, body, start.body, grid=(n, m))
     state, result = runs[-1]

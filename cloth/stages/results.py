@@ -49,9 +49,16 @@ def aggregate(relaxed_path: str | Path) -> tuple[xr.Dataset, list]:
     problem = Problem.of(state, body)
     ev = problem.evaluate(state.x)
     fields = node_fields(
-        state.grid, state.x, ev.springs, state.fabric.thickness, ev.forces, ev.unbalanced,
-        ev.on_body, ev.normal, state.constraint,
-    )  # fmt: skip
+        state.grid,
+        state.x,
+        ev.springs,
+        state.fabric.thickness,
+        ev.forces,
+        ev.unbalanced,
+        ev.on_body,
+        ev.normal,
+        state.constraint,
+    )
     reading = state.case.reading
     marks = landmarks(landmark_heights(state), state.x, fields, state.grid, reading)
     result = result_dataset(state, fields, marks, ds)
@@ -149,8 +156,11 @@ def _resolution(state, body, marks: list) -> dict[str, xr.Variable]:
                     "%s: the mesh's vertices are %.3g mm apart in height there, the garment's "
                     "rows %.3g mm: between them the body is the fitted surface's interpolation, "
                     "which the error estimate (the garment's grid on a fixed surface) does not "
-                    "include", mark.name, 1e3 * step, 1e3 * row,
-                )  # fmt: skip
+                    "include",
+                    mark.name,
+                    1e3 * step,
+                    1e3 * row,
+                )
     return levels.resolution_variables(rows, mesh)
 
 
@@ -173,9 +183,10 @@ def stability(problem: Problem, ev: Evaluation, counted: int | None = None) -> i
             "the equilibrium is a saddle: %d unstable mode%s. The garment is balanced there but "
             "would not stay: a nearby state of lower energy exists, and another solver path may "
             "end on it, so the reported pressures are those of one balanced state, not the "
-            "garment's settled one (docs/model.md, Compressed fabric)", modes,
+            "garment's settled one (docs/model.md, Compressed fabric)",
+            modes,
             "" if modes == 1 else "s",
-        )  # fmt: skip
+        )
     return modes
 
 
@@ -222,21 +233,31 @@ def write_result(
         log.warning("%s: the relaxation did not converge; results are marked so", relaxed_path)
     for row in rows:
         judged = "".join(
-            f", {label} {row[key]}" for key, label in
-            (("compression_class", "class"), ("share_of_class_point", "share"),
-             ("pressure_band", "band")) if row.get(key) not in (None, "")
-        )  # fmt: skip
+            f", {label} {row[key]}"
+            for key, label in (
+                ("compression_class", "class"),
+                ("share_of_class_point", "share"),
+                ("pressure_band", "band"),
+            )
+            if row.get(key) not in (None, "")
+        )
         log.info(
-            "%s: pressure mean %.4g Pa (%.3g mmHg%s), max %.3g mmHg", row["landmark"],
-            row["pressure_mean_Pa"], row["pressure_mean_mmHg"], judged, row["pressure_max_mmHg"],
-        )  # fmt: skip
+            "%s: pressure mean %.4g Pa (%.3g mmHg%s), max %.3g mmHg",
+            row["landmark"],
+            row["pressure_mean_Pa"],
+            row["pressure_mean_mmHg"],
+            judged,
+            row["pressure_max_mmHg"],
+        )
     return ds
 
 
 def view(result: str | Path | xr.Dataset, output: str | Path) -> Path:
     """result.nc (or its dataset) -> the interactive HTML view over its body
     (`cloth.figures.view`)."""
-    ds = result if isinstance(result, xr.Dataset) else (
-        read_netcdf(result, "result", ("x", "y", "z", "pressure_mmHg"))
-    )  # fmt: skip
+    ds = (
+        result
+        if isinstance(result, xr.Dataset)
+        else (read_netcdf(result, "result", ("x", "y", "z", "pressure_mmHg")))
+    )
     return write_view(ds, output, body_band(ds))

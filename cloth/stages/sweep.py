@@ -25,9 +25,14 @@ log = logging.getLogger("cloth")
 
 
 def sweep_files(
-    index: list[dict], results: list[Path], targets: list[dict], output: Path, csv: Path,
-    plot: Path, body_plot: Path | None = None,
-) -> None:  # fmt: skip
+    index: list[dict],
+    results: list[Path],
+    targets: list[dict],
+    output: Path,
+    csv: Path,
+    plot: Path,
+    body_plot: Path | None = None,
+) -> None:
     """The ``results`` (a result.nc each) of the cases in ``index`` (case, material, body,
     reduction, variant keys; in its order) -> sweep.nc, sweep.csv, the design plot and the small
     multiples on the body."""
@@ -59,9 +64,13 @@ def design_file(sweep: Path, targets: list[dict], output: Path) -> None:
         if row["status"] == "ok":
             log.info(
                 "%s: %.4g mmHg at the %s needs a reduction of %.4g +- %.2g (the girth line's "
-                "discretisation error; to be confirmed)", where, row["target_mmHg"],
-                row["landmark"], row["reduction"], row["reduction_error"],
-            )  # fmt: skip
+                "discretisation error; to be confirmed)",
+                where,
+                row["target_mmHg"],
+                row["landmark"],
+                row["reduction"],
+                row["reduction_error"],
+            )
         else:
             log.warning("%s: %s", where, row["message"])
     write_rows(rows, output, design_header(rows))
@@ -77,7 +86,12 @@ def confirm_file(design: Path, results: list[Path], output: Path) -> None:
         if "confirmed_mmHg" in row:
             log.info(
                 "%s on %s, %s: reduction %s gives %.4g +- %.2g mmHg (target %s, off by %+.2f %%)",
-                row["material"], row["body"], row["landmark"], row["reduction"],
-                row["confirmed_mmHg"], row["confirmed_error_mmHg"], row["target_mmHg"],
+                row["material"],
+                row["body"],
+                row["landmark"],
+                row["reduction"],
+                row["confirmed_mmHg"],
+                row["confirmed_error_mmHg"],
+                row["target_mmHg"],
                 row["error_percent"],
-            )  # fmt: skip
+            )

@@ -29,14 +29,24 @@ BANDS = [
     {"bottom": 0.09, "top": B1, "thickness": 0.004, "modulus": 60000.0},
     {"bottom": B1, "top": D, "thickness": 0.025, "modulus": 8000.0},
 ]
-GARMENT = {"bottom": 0.09, "top": 0.77, "grid": [32, 48], "reduction": 0.16,
-           "lengthwise_reduction": 0.15, "error_estimate": False}  # fmt: skip
+GARMENT = {
+    "bottom": 0.09,
+    "top": 0.77,
+    "grid": [32, 48],
+    "reduction": 0.16,
+    "lengthwise_reduction": 0.15,
+    "error_estimate": False,
+}
 
 
 def row_pressure(body: dict, folder: Path) -> tuple[np.ndarray, np.ndarray]:
     """Row heights (m) and row-mean pressures (Pa) of the stocking on ``body``."""
-    case = {"material": "powernet", "body": body, "garment": GARMENT,
-            "solver": {"method": "newton"}}  # fmt: skip
+    case = {
+        "material": "powernet",
+        "body": body,
+        "garment": GARMENT,
+        "solver": {"method": "newton"},
+    }
     folder.mkdir(parents=True, exist_ok=True)
     (folder / "case.yaml").write_text(yaml.safe_dump(case))
     run_case(folder / "case.yaml", folder / "out", {}, ROOT, stop_after="aggregate")
@@ -46,8 +56,10 @@ def row_pressure(body: dict, folder: Path) -> tuple[np.ndarray, np.ndarray]:
 
 with tempfile.TemporaryDirectory() as tmp:
     heights, rigid = row_pressure({"leg": {"size": "M"}}, Path(tmp) / "rigid")
-    tissue_body = {"leg": {"size": "M"},
-                   "tissue": {"thickness": 0.010, "modulus": 20000.0, "bands": BANDS}}  # fmt: skip
+    tissue_body = {
+        "leg": {"size": "M"},
+        "tissue": {"thickness": 0.010, "modulus": 20000.0, "bands": BANDS},
+    }
     _, tissue = row_pressure(tissue_body, Path(tmp) / "tissue")
 bands = BANDS
 
