@@ -133,10 +133,19 @@ def package_graph(graph: dict[str, set[str]]) -> dict[str, set[str]]:
     return wings
 
 
+#: Modules whose functions import cloth late by design, and why (their docstring says so too).
+LATE = {
+    "cloth.cli.handlers": "a verb imports its stage when it runs: `cloth --version` imports none"
+}
+
+
 def hidden_imports() -> list[str]:
-    """Imports of cloth inside a function without a comment on their line saying why."""
+    """Imports of cloth inside a function without a comment on their line saying why (outside
+    the modules of `LATE`)."""
     found = []
     for name, path in _modules().items():
+        if name in LATE:
+            continue
         lines = path.read_text().splitlines()
         for node in ast.walk(ast.parse("\n".join(lines))):
             if not isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef):
@@ -189,7 +198,7 @@ def test_the_cycle_finder_finds_a_cycle():
 
 def test_the_imports_of_cloth_have_no_cycle():
     graph = import_graph()
-    assert graph["cloth.cli.parser"] >= {"cloth.cli.handlers"}  # the walk sees imports
+    assert graph["cloth.cli"] >= {"cloth.cli.parser"}  # the walk sees imports
     assert "cloth.stages.results" in graph["cloth.cli.handlers"] or (
         "cloth.stages" in graph["cloth.cli.handlers"]
     )
@@ -199,6 +208,28 @@ def test_the_imports_of_cloth_have_no_cycle():
 def test_no_module_is_over_max_lines():
     sizes = {name: len(path.read_text().splitlines()) for name, path in _modules().items()}
     assert {name: n for name, n in sizes.items() if n > MAX_LINES} == {}
+
+
+def private_imports() -> list[str]:
+    """``from cloth.x import _name`` in a cloth module other than cloth.x: a private name used
+    across modules (the linear factor and the grid's operators have public faces for that)."""
+    found = []
+    modules = _modules()
+    for name, path in modules.items():
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.ImportFrom) and (node.module or "").startswith("cloth"):
+                found += [
+                    f"{name}:{node.lineno} {alias.name}"
+                    for alias in node.names
+                    if alias.name.startswith("_")
+                    and not alias.name.startswith("__")
+                    and node.module != name
+                ]
+    return found
+
+
+def test_no_module_imports_another_modules_private_name():
+    assert private_imports() == []
 
 
 def case_readers(packages: tuple[str, ...] = ("solvers", "contact")) -> list[str]:

@@ -8,6 +8,7 @@ nothing is written in that case, since every output is written atomically after 
 from __future__ import annotations
 
 import argparse
+import importlib
 import logging
 import sys
 from collections.abc import Sequence
@@ -15,7 +16,6 @@ from collections.abc import Sequence
 from cloth.cli.blocks import apply_block
 from cloth.cli.parser import build_parser
 from cloth.errors import EXIT_INPUT, InputError, StageFailed
-from cloth.io import set_command
 from cloth.paths import output_path
 
 __all__ = ["build_parser", "main"]
@@ -48,8 +48,12 @@ def main(argv: Sequence[str] | None = None) -> int:
         stream=sys.stderr,
     )
 
+    # --version, --help and a refused argument never load the numerical stack; a verb's
+    # handler (cloth.cli.handlers, found by name) imports its own stage
+    from cloth.io import set_command  # late: cloth.io imports xarray
+
     set_command(["cloth", *(sys.argv[1:] if argv is None else argv)])
-    handler = args.handler
+    handler = getattr(importlib.import_module("cloth.cli.handlers"), args.handler)
     try:
         if getattr(args, "block", None) is not None and getattr(args, "verb", None) is not None:
             apply_block(args.verb, args, args.block_ignores)

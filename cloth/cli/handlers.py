@@ -1,5 +1,9 @@
 """The ``cloth`` command's handlers: each turns parsed arguments into one call of a stage
-(`cloth.stages`) or of the library, and returns the exit status."""
+(`cloth.stages`) or of the library, and returns the exit status.
+
+Each handler imports its stage when it runs, not at the module's top: ``cloth --version``,
+``--help`` and a refused argument import none of them (measured in
+tests/test_cli_startup.py; the numerical stack costs about 1.5 s to import)."""
 
 from __future__ import annotations
 
@@ -7,23 +11,7 @@ import argparse
 import logging
 from collections.abc import Callable
 
-from cloth.bodies.mesh import MeshBody
-from cloth.bodies.surface import FitOptions
 from cloth.errors import InputError
-from cloth.figures.export import export
-from cloth.files.pattern import write_pattern
-from cloth.files.surface import load_or_fit
-from cloth.io import atomic_output, read_netcdf
-from cloth.materials.labtables import IngestOptions
-from cloth.pipeline.config import load_case, validate_case
-from cloth.results.pressure import MMHG
-from cloth.results.targets import Target
-from cloth.stages import figures, view, write_result
-from cloth.stages.bodycheck import describe
-from cloth.stages.case import SOLVER_KEYS, predeform_file, relax_file, run_case
-from cloth.stages.graded import design_files
-from cloth.stages.inputs import ingest_material, leg_file, torso_file
-from cloth.stages.sweep import confirm_file, design_file, sweep_files
 
 log = logging.getLogger("cloth")
 
@@ -36,7 +24,10 @@ def _required(args: argparse.Namespace, dest: str, what: str) -> None:
         raise InputError(f"give {what}", field=dest)
 
 
-def _material_ingest(args: argparse.Namespace) -> int:
+def material_ingest(args: argparse.Namespace) -> int:
+    from cloth.materials.labtables import IngestOptions
+    from cloth.stages.inputs import ingest_material
+
     _required(args, "tables", "the lab table(s), or --json with a table")
     options = IngestOptions(
         n_knots=args.knots,
@@ -52,7 +43,9 @@ def _material_ingest(args: argparse.Namespace) -> int:
     return 0
 
 
-def _body_torso(args: argparse.Namespace) -> int:
+def body_torso(args: argparse.Namespace) -> int:
+    from cloth.stages.inputs import torso_file
+
     _required(args, "size", "--size, or --json with a torso block")
     girths = {
         k: getattr(args, k)
@@ -63,17 +56,22 @@ def _body_torso(args: argparse.Namespace) -> int:
     return 0
 
 
-def _body_leg(args: argparse.Namespace) -> int:
+def body_leg(args: argparse.Namespace) -> int:
+    from cloth.stages.inputs import leg_file
+
     leg_file(args.size, args.chart, args.around, args.rings, args.output)
     return 0
 
 
-def _fit_options(args: argparse.Namespace):  # -> FitOptions (imported late: startup time)
+def _fit_options(args: argparse.Namespace):  # -> FitOptions, imported when used
+    from cloth.bodies.surface import FitOptions
 
     return FitOptions(args.smoothing, args.spacing, args.refine, args.denoise)
 
 
-def _body_check(args: argparse.Namespace) -> int:
+def body_check(args: argparse.Namespace) -> int:
+    from cloth.stages.bodycheck import describe
+
     _required(args, "mesh", "the mesh file, or --json with a mesh body block")
     lines = describe(
         args.mesh,
@@ -90,22 +88,30 @@ def _body_check(args: argparse.Namespace) -> int:
     return 0
 
 
-def _body_fit(args: argparse.Namespace) -> int:
+def body_fit(args: argparse.Namespace) -> int:
+    from cloth.bodies.mesh import MeshBody
+    from cloth.files.surface import load_or_fit
+
     _required(args, "mesh", "the mesh file, or --json with a mesh body block")
     mesh = MeshBody.load(args.mesh, args.units, args.up, args.repair, allow_holes=True)
     load_or_fit(mesh, _fit_options(args), args.output)
     return 0
 
 
-def _predeform(args: argparse.Namespace) -> int:
+def predeform(args: argparse.Namespace) -> int:
+    from cloth.stages.case import predeform_file
+
     predeform_file(args.case, args.output, args.base_dir, args.plot, args.force)
     return 0
 
 
-def _case_write(args: argparse.Namespace) -> int:
+def case_write(args: argparse.Namespace) -> int:
     import json
 
     import yaml
+
+    from cloth.io import atomic_output
+    from cloth.pipeline.config import validate_case
 
     try:
         case = json.loads(args.json)
@@ -118,8 +124,10 @@ def _case_write(args: argparse.Namespace) -> int:
     return 0
 
 
-def _case_check(args: argparse.Namespace) -> int:
+def case_check(args: argparse.Namespace) -> int:
     import yaml
+
+    from cloth.pipeline.config import load_case
 
     print(yaml.safe_dump(load_case(args.case).to_dict(), sort_keys=False), end="")
     return 0
@@ -127,47 +135,66 @@ def _case_check(args: argparse.Namespace) -> int:
 
 def _overrides(args: argparse.Namespace) -> dict:
     """The solver keys given on the command line (on top of the case's solver block)."""
+    from cloth.stages.case import SOLVER_KEYS
+
     return {k: getattr(args, k) for k in SOLVER_KEYS if getattr(args, k, None) is not None}
 
 
-def _relax(args: argparse.Namespace) -> int:
+def relax(args: argparse.Namespace) -> int:
+    from cloth.stages.case import relax_file
+
     relax_file(args.initial, args.output, _overrides(args), args.force)
     return 0
 
 
-def _run(args: argparse.Namespace) -> int:
+def run(args: argparse.Namespace) -> int:
+    from cloth.stages.case import run_case
+
     run_case(args.case, args.output, _overrides(args), args.base_dir, args.stop_after, args.force)
     return 0
 
 
-def _aggregate(args: argparse.Namespace) -> int:
+def aggregate(args: argparse.Namespace) -> int:
+    from cloth.stages import write_result
+
     write_result(args.relaxed, args.output, args.summary)
     return 0
 
 
-def _plot(args: argparse.Namespace) -> int:
+def plot(args: argparse.Namespace) -> int:
+    from cloth.stages import figures
+
     figures(args.result, args.output, args.peers, args.stress_range, args.pressure_range)
     return 0
 
 
-def _view(args: argparse.Namespace) -> int:
+def view(args: argparse.Namespace) -> int:
+    from cloth.stages import view
+
     view(args.result, args.output)
     return 0
 
 
-def _export(args: argparse.Namespace) -> int:
+def export(args: argparse.Namespace) -> int:
+    from cloth.figures.export import export
+    from cloth.io import read_netcdf
+
     export(read_netcdf(args.result, "result", ("x", "y", "z")), args.output, args.field)
     log.info("wrote %s", args.output)
     return 0
 
 
-def _pattern(args: argparse.Namespace) -> int:
+def pattern(args: argparse.Namespace) -> int:
+    from cloth.files.pattern import write_pattern
+
     write_pattern(args.result, args.output, args.cut, args.formats)
     return 0
 
 
-def _sweep(args: argparse.Namespace) -> int:
+def sweep(args: argparse.Namespace) -> int:
     import json
+
+    from cloth.stages.sweep import sweep_files
 
     sweep_files(
         json.loads(args.index),
@@ -181,8 +208,13 @@ def _sweep(args: argparse.Namespace) -> int:
     return 0
 
 
-def _design(args: argparse.Namespace) -> int:
+def design(args: argparse.Namespace) -> int:
     import json
+
+    from cloth.results.pressure import MMHG
+    from cloth.results.targets import Target
+    from cloth.stages.graded import design_files
+    from cloth.stages.sweep import design_file
 
     if args.input.suffix == ".nc":
         if args.target or args.targets is None:
@@ -208,6 +240,8 @@ def _design(args: argparse.Namespace) -> int:
     return 0
 
 
-def _confirm(args: argparse.Namespace) -> int:
+def confirm(args: argparse.Namespace) -> int:
+    from cloth.stages.sweep import confirm_file
+
     confirm_file(args.design, args.results, args.output)
     return 0

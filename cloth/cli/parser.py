@@ -7,26 +7,6 @@ from pathlib import Path
 from typing import NoReturn
 
 from cloth import __version__
-from cloth.cli.handlers import (
-    _aggregate,
-    _body_check,
-    _body_fit,
-    _body_leg,
-    _body_torso,
-    _case_check,
-    _case_write,
-    _confirm,
-    _design,
-    _export,
-    _material_ingest,
-    _pattern,
-    _plot,
-    _predeform,
-    _relax,
-    _run,
-    _sweep,
-    _view,
-)
 from cloth.errors import EXIT_INPUT
 
 
@@ -156,7 +136,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     ingest.add_argument("--name", help="fabric name (default: header name or file stem)")
     _json_option(ingest, "a config's material block (docs/config.md)")
-    ingest.set_defaults(handler=_material_ingest)
+    ingest.set_defaults(handler="material_ingest")
 
     body = commands.add_parser("body", help="bodies: parametric torso and leg, mesh checks")
     body_commands = body.add_subparsers(dest="body_command", required=True)
@@ -173,7 +153,7 @@ def build_parser() -> argparse.ArgumentParser:
     torso.add_argument("--rings", type=int, default=120, help="mesh rings")
     torso.add_argument("-o", "--output", type=_path, required=True, help="mesh file (.ply, .stl)")
     _json_option(torso, "a case's torso body block (docs/config.md)", ("surface", "tissue"))
-    torso.set_defaults(handler=_body_torso)
+    torso.set_defaults(handler="body_torso")
     leg = body_commands.add_parser(
         "leg", help="write the parametric leg of a stocking size chart as a mesh (m, z up)"
     )
@@ -182,7 +162,7 @@ def build_parser() -> argparse.ArgumentParser:
     leg.add_argument("--around", type=int, default=96, help="mesh points per ring")
     leg.add_argument("--rings", type=int, default=160, help="mesh rings")
     leg.add_argument("-o", "--output", type=_path, required=True, help="mesh file (.ply, .stl)")
-    leg.set_defaults(handler=_body_leg)
+    leg.set_defaults(handler="body_leg")
     check = body_commands.add_parser(
         "check",
         help="check a mesh and print its bounds, height and girth profile",
@@ -203,7 +183,7 @@ def build_parser() -> argparse.ArgumentParser:
         "--surface-file", type=_path, help="a fitted surface (cloth body fit) to use if it fits"
     )
     _json_option(check, "a case's mesh body block (docs/config.md)", ("tissue",))
-    check.set_defaults(handler=_body_check)
+    check.set_defaults(handler="body_check")
     fit = body_commands.add_parser(
         "fit",
         help="fit the smooth contact surface of a mesh -> surface.nc",
@@ -214,7 +194,7 @@ def build_parser() -> argparse.ArgumentParser:
     _json_option(
         fit, "a case's mesh body block (docs/config.md)", ("surface", "surface_file", "tissue")
     )
-    fit.set_defaults(handler=_body_fit)
+    fit.set_defaults(handler="body_fit")
 
     pre = commands.add_parser(
         "predeform",
@@ -230,7 +210,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     pre.add_argument("--plot", type=_path, help="also write a 3D figure of the wrapped garment")
     _force_option(pre)
-    pre.set_defaults(handler=_predeform)
+    pre.set_defaults(handler="predeform")
 
     def solver_options(command: argparse.ArgumentParser) -> None:
         command.add_argument(
@@ -259,7 +239,7 @@ def build_parser() -> argparse.ArgumentParser:
     rel.add_argument("initial", type=_path, help="initial.nc from cloth predeform")
     rel.add_argument("-o", "--output", type=_path, required=True, help="relaxed.nc to write")
     solver_options(rel)
-    rel.set_defaults(handler=_relax)
+    rel.set_defaults(handler="relax")
 
     run = commands.add_parser(
         "run",
@@ -279,7 +259,7 @@ def build_parser() -> argparse.ArgumentParser:
         help="folder relative paths in the case are relative to (default: the case file's folder)",
     )
     solver_options(run)
-    run.set_defaults(handler=_run, output_folder=True)
+    run.set_defaults(handler="run", output_folder=True)
 
     agg = commands.add_parser(
         "aggregate",
@@ -290,7 +270,7 @@ def build_parser() -> argparse.ArgumentParser:
     agg.add_argument("relaxed", type=_path, help="relaxed.nc from cloth relax")
     agg.add_argument("-o", "--output", type=_path, required=True, help="result.nc to write")
     agg.add_argument("--summary", type=_path, help="also write the landmark summary CSV")
-    agg.set_defaults(handler=_aggregate)
+    agg.set_defaults(handler="aggregate")
 
     plot = commands.add_parser("plot", help="result.nc -> figures (PNG) in a folder")
     plot.add_argument("result", type=_path, help="result.nc from cloth aggregate")
@@ -318,20 +298,20 @@ def build_parser() -> argparse.ArgumentParser:
         help="result.nc files (a sweep's) whose values set the colour ranges not given, so "
         "that the figures of a sweep compare (default: this result's own range)",
     )
-    plot.set_defaults(handler=_plot, output_folder=True)
+    plot.set_defaults(handler="plot", output_folder=True)
 
     view = commands.add_parser(
         "view", help="result.nc -> one self-contained HTML page: body and garment in 3D"
     )
     view.add_argument("result", type=_path, help="result.nc from cloth aggregate")
     view.add_argument("-o", "--output", type=_path, required=True, help="HTML file to write")
-    view.set_defaults(handler=_view)
+    view.set_defaults(handler="view")
 
     exp = commands.add_parser("export", help="result.nc -> .ply, .vtu or .csv")
     exp.add_argument("result", type=_path, help="result.nc from cloth aggregate")
     exp.add_argument("-o", "--output", type=_path, required=True, help="file: .ply, .vtu, .csv")
     exp.add_argument("--field", default="stress_weft", help="field coloured in the PLY")
-    exp.set_defaults(handler=_export)
+    exp.set_defaults(handler="export")
 
     pat = commands.add_parser(
         "pattern", help="result.nc -> the cut pattern: CSV table, SVG and DXF outline (1:1, mm)"
@@ -358,7 +338,7 @@ def build_parser() -> argparse.ArgumentParser:
         default=["csv", "svg", "dxf"],
         help="files to write (default: all three; DXF needs the extra pattern: ezdxf)",
     )
-    pat.set_defaults(handler=_pattern)
+    pat.set_defaults(handler="pattern")
 
     sw = commands.add_parser("sweep", help="results of a sweep -> sweep.nc, sweep.csv, design plot")
     sw.add_argument(
@@ -378,7 +358,7 @@ def build_parser() -> argparse.ArgumentParser:
         type=_path,
         help="small multiples to write: the pressure on the body per body and reduction",
     )
-    sw.set_defaults(handler=_sweep)
+    sw.set_defaults(handler="sweep")
 
     de = commands.add_parser(
         "design",
@@ -414,7 +394,7 @@ def build_parser() -> argparse.ArgumentParser:
         required=True,
         help="design.csv to write (sweep.nc), or the folder of the design (a case)",
     )
-    de.set_defaults(handler=_design)
+    de.set_defaults(handler="design")
 
     co = commands.add_parser("confirm", help="design.csv + confirmation results -> errors")
     co.add_argument("design", type=_path, help="design.csv from cloth design")
@@ -425,7 +405,7 @@ def build_parser() -> argparse.ArgumentParser:
         help="result.nc of each answered target's confirmation case, in design.csv's order",
     )
     co.add_argument("-o", "--output", type=_path, required=True, help="confirmed CSV to write")
-    co.set_defaults(handler=_confirm)
+    co.set_defaults(handler="confirm")
 
     case = commands.add_parser("case", help="case files: check, write")
     case_commands = case.add_subparsers(dest="case_command", required=True)
@@ -433,11 +413,11 @@ def build_parser() -> argparse.ArgumentParser:
         "check", help="validate a case file and print it with defaults filled"
     )
     case_check.add_argument("case", type=_path, help="case YAML file")
-    case_check.set_defaults(handler=_case_check)
+    case_check.set_defaults(handler="case_check")
     case_write = case_commands.add_parser(
         "write", help="validate a case given as JSON and write it as YAML (used by the pipeline)"
     )
     case_write.add_argument("--json", required=True, help="the case as a JSON object")
     case_write.add_argument("-o", "--output", type=_path, required=True, help="case YAML to write")
-    case_write.set_defaults(handler=_case_write)
+    case_write.set_defaults(handler="case_write")
     return parser
