@@ -113,15 +113,16 @@ def test_the_tiny_pipeline_runs_through_slurm_as_it_runs_here(cluster, tiny_run,
     for job_id, rule in jobs.items():
         assert record[job_id]["JobState"] == "COMPLETED", (rule, record[job_id])
         assert record[job_id]["ExitCode"] == "0:0", (rule, record[job_id])
-    cases = sorted(path.parent.name for path in (local / "results/cases").glob("*/result.nc"))
+    cases = sorted(path.parent.name for path in (local / "results-ci/cases").glob("*/result.nc"))
     assert any(name.startswith("design__") for name in cases)  # the confirmation case
-    assert cases == sorted(p.parent.name for p in (where / "results/cases").glob("*/result.nc"))
+    assert cases == sorted(p.parent.name for p in (where / "results-ci/cases").glob("*/result.nc"))
     for name in cases:
         assert_same_data(
-            local / f"results/cases/{name}/result.nc", where / f"results/cases/{name}/result.nc"
+            local / f"results-ci/cases/{name}/result.nc",
+            where / f"results-ci/cases/{name}/result.nc",
         )
-    assert_same_data(local / "results/sweep.nc", where / "results/sweep.nc")
-    confirmed = "results/design_confirmed.csv"
+    assert_same_data(local / "results-ci/sweep.nc", where / "results-ci/sweep.nc")
+    confirmed = "results-ci/design_confirmed.csv"
     assert (where / confirmed).read_text() == (local / confirmed).read_text()
     again = on_slurm(cluster, where, "--configfile", "config/ci.yaml", "-n")
     assert "Nothing to be done" in again.stdout + again.stderr
@@ -138,7 +139,7 @@ def test_a_cancelled_relax_job_is_reported_and_a_rerun_completes(cluster, tmp_pa
     config = yaml.safe_load((where / "config/ci.yaml").read_text())
     config["cases"]["tiny"]["garment"]["grid"] = [96, 48]  # a relaxation of a few seconds
     (where / "config/one.yaml").write_text(yaml.safe_dump(config))
-    target = ("results/cases/tiny/relaxed.nc", "--configfile", "config/one.yaml")
+    target = ("results-one/cases/tiny/relaxed.nc", "--configfile", "config/one.yaml")
     process = subprocess.Popen(
         ["snakemake", *SLURM_ARGS, "--retries", "0", *target],
         cwd=where,
@@ -159,10 +160,10 @@ def test_a_cancelled_relax_job_is_reported_and_a_rerun_completes(cluster, tmp_pa
     assert cancelled is not None, output[-3000:]
     assert process.returncode != 0
     assert "Error in rule relax" in output and f"SLURM-job '{cancelled}' failed" in output
-    assert not (where / "results/cases/tiny/relaxed.nc").exists()
+    assert not (where / "results-one/cases/tiny/relaxed.nc").exists()
     record = {job["JobId"]: job for job in cluster.jobs()}
     assert record[cancelled]["JobState"] == "CANCELLED"
     rerun = on_slurm(cluster, where, *target)
     assert rerun.returncode == 0, rerun.stderr[-3000:]
-    with xr.open_dataset(where / "results/cases/tiny/relaxed.nc") as relaxed:
+    with xr.open_dataset(where / "results-one/cases/tiny/relaxed.nc") as relaxed:
         assert relaxed.attrs["solver_converged"] == 1

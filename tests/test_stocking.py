@@ -35,7 +35,7 @@ def stocking(tmp_path_factory) -> Path:
     small.write_text(yaml.safe_dump(SMALL))
     done = snakemake(where, *from_checkout(where, "config/stocking.yaml"), str(small))
     assert done.returncode == 0, done.stderr[-3000:]
-    return where / "results"
+    return where / "results-stocking"
 
 
 def test_the_stocking_summary_judges_the_class_at_b_and_the_graduation(stocking):

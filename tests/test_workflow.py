@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import shutil
 import subprocess
 from pathlib import Path
 
@@ -52,17 +53,17 @@ def test_bad_config_stops_before_any_job(tmp_path, mutate, expected):
     result = snakemake(where, "--configfile", str(path), "-n")
     assert result.returncode != 0
     assert expected in result.stdout + result.stderr
-    assert not (where / "results").exists()
+    assert not [p for p in where.iterdir() if p.name.startswith("results")]
 
 
 def test_tiny_pipeline_end_to_end(tiny_run):
     where, result, _ = tiny_run
     assert result.returncode == 0, result.stderr[-3000:]
-    with xr.open_dataset(where / "results/materials/powernet.nc") as material:
+    with xr.open_dataset(where / "results-ci/materials/powernet.nc") as material:
         knots = material["weft_knot_stress"].values
         assert knots.size == 6 and np.all(np.diff(knots) >= 0)
         assert float(material["weft_fit_max_error_percent"]) < 3.0
-    with xr.open_dataset(where / "results/cases/tiny/initial.nc") as initial:
+    with xr.open_dataset(where / "results-ci/cases/tiny/initial.nc") as initial:
         assert initial["x"].shape == (8, 24)
         # every row is cut 15 % short of the hull girth: its node ring is 1/0.85 times its rest
         # circumference, less the 24-gon's chord shortfall, plus the 0.1 mm offset (< 0.5 %)
@@ -70,7 +71,7 @@ def test_tiny_pipeline_end_to_end(tiny_run):
         ring = np.linalg.norm(np.roll(x, -1, axis=1) - x, axis=2).sum(axis=1)
         rest = initial["rest_length"].values[: 8 * 24].reshape(8, 24).sum(axis=1)
         np.testing.assert_allclose(ring / rest, 1 / 0.85, rtol=5e-3)
-    with xr.open_dataset(where / "results/cases/tiny/relaxed.nc") as relaxed:
+    with xr.open_dataset(where / "results-ci/cases/tiny/relaxed.nc") as relaxed:
         assert relaxed.attrs["solver_converged"] == 1
         residual = relaxed["residual"].values
         assert residual[-1] <= 1e-8 < residual[0]
@@ -79,7 +80,7 @@ def test_tiny_pipeline_end_to_end(tiny_run):
         ring = np.linalg.norm(np.roll(x, -1, axis=1) - x, axis=2).sum(axis=1)
         assert np.all(ring / rest > 1.1)
         assert float(relaxed["penetration"].values.max()) <= 1e-6
-    with xr.open_dataset(where / "results/cases/tiny/result.nc") as result:
+    with xr.open_dataset(where / "results-ci/cases/tiny/result.nc") as result:
         # Newton's third law for the whole garment: the spring forces cancel in sum, so what
         # the fabric puts on the body is what the edge supports hold, vertical only
         total = result["total_force"].values
@@ -90,16 +91,16 @@ def test_tiny_pipeline_end_to_end(tiny_run):
         assert set(result["landmark"].values.tolist()) == {"waist", "underbust"}
         waist = float(result["pressure_mean"].sel(landmark="waist"))
         assert 300 < waist < 5000  # a 15 % reduction of power net: shapewear range, Pa
-    summary = (where / "results/cases/tiny/summary.csv").read_text().splitlines()
+    summary = (where / "results-ci/cases/tiny/summary.csv").read_text().splitlines()
     assert len(summary) == 3 and "pressure_mean_mmHg" in summary[0]
     from cloth.figures.plots import FIGURES
 
-    figures = {f.stem for f in (where / "results/cases/tiny/figures").glob("*.png")}
+    figures = {f.stem for f in (where / "results-ci/cases/tiny/figures").glob("*.png")}
     assert figures == set(FIGURES)
-    assert (where / "results/sweep_on_body.png").stat().st_size > 20_000
-    page = (where / "results/cases/tiny/garment.html").read_text()
+    assert (where / "results-ci/sweep_on_body.png").stat().st_size > 20_000
+    page = (where / "results-ci/cases/tiny/garment.html").read_text()
     assert '<meta name="cloth:nodes" content="192">' in page
-    with xr.open_dataset(where / "results/sweep.nc") as sweep:
+    with xr.open_dataset(where / "results-ci/sweep.nc") as sweep:
         assert dict(sweep.sizes) == {
             "material": 1,
             "body": 1,
@@ -113,10 +114,10 @@ def test_tiny_pipeline_end_to_end(tiny_run):
             waist = at.sel(worn=0).values.ravel()
             assert waist[1] > waist[0] > 0  # a tighter pattern presses harder
             assert np.all(at.sel(worn=1).values.ravel() < waist)  # the set costs compression
-    rows = (where / "results/sweep.csv").read_text().splitlines()
+    rows = (where / "results-ci/sweep.csv").read_text().splitlines()
     # one row per new case (reductions x one lengthwise reduction) and line, the worn beside it
     assert len(rows) == 1 + 2 * 2 and "pressure_mean_mmHg_worn" in rows[0]
-    confirmed = (where / "results/design_confirmed.csv").read_text().splitlines()
+    confirmed = (where / "results-ci/design_confirmed.csv").read_text().splitlines()
     assert len(confirmed) == 3  # the new and the worn garment's answers
     header = confirmed[0].split(",")
     records = [dict(zip(header, row.split(","), strict=True)) for row in confirmed[1:]]
@@ -134,17 +135,63 @@ def test_tiny_pipeline_end_to_end(tiny_run):
         )
         assert float(worn["reduction"]) > float(new["reduction"])  # a worn one is cut tighter
     # 48 around, 30 rings (the landmarks among them), and the two caps: 48 x 29 x 2 + 2 x 48
-    assert "faces: 2880" in (where / "results/bodies/small.txt").read_text()
+    assert "faces: 2880" in (where / "results-ci/bodies/small.txt").read_text()
     assert sorted(p.name for p in where.iterdir() if not p.name.startswith(".")) == [
         "benchmarks",
         "logs",
-        "results",
+        "results-ci",
     ]  # run from an empty folder: nothing of the workflow's was copied there
     report = snakemake(where, *from_checkout(where), "--report", "report.html")
     assert report.returncode == 0, report.stderr[-2000:]
     assert (where / "report.html").stat().st_size > 100_000
     again = snakemake(where, *from_checkout(where), "-n")
     assert "Nothing to be done" in again.stdout + again.stderr
+
+
+def _positions(path: Path) -> np.ndarray:
+    with xr.open_dataset(path) as ds:
+        return np.stack([ds[c].values for c in ("x", "y", "z")], axis=-1)
+
+
+def test_every_written_case_runs_as_written_after_its_folder_moves(tiny_run, tmp_path, monkeypatch):
+    """The cases the pipeline writes (each case's case.yaml, a design's start.yaml and its
+    designed case.yaml) store their paths relative to their own folder: the results folder
+    moved elsewhere, each runs from an unrelated working directory and gives what the pipeline
+    gave (the designed case: its confirmation's initial state)."""
+    from cloth.cli import main
+
+    where, result, _ = tiny_run
+    assert result.returncode == 0, result.stderr[-3000:]
+    moved = tmp_path / "moved" / "elsewhere"
+    shutil.copytree(where / "results-ci", moved)
+    (tmp_path / "cwd").mkdir()
+    monkeypatch.chdir(tmp_path / "cwd")
+    cases = sorted(moved.glob("cases/*/case.yaml"))
+    designs = sorted(moved.glob("designs/*/case.yaml"))
+    assert len(cases) >= 5 and designs  # the tiny case, the sweep's, the confirmations'
+    for case in [*cases, *designs]:
+        pipeline = case.parent / ("confirmed" if case in designs else "") / "initial.nc"
+        out = tmp_path / "out" / case.parent.name / "initial.nc"
+        assert main(["--log-level", "WARNING", "predeform", str(case), "-o", str(out)]) == 0
+        np.testing.assert_array_equal(_positions(out), _positions(pipeline), err_msg=str(case))
+    for start in moved.glob("designs/*/start.yaml"):
+        out = tmp_path / "out" / "start" / "initial.nc"
+        assert main(["--log-level", "WARNING", "predeform", str(start), "-o", str(out)]) == 0
+    # the tiny case end to end: the same pressures as the pipeline's
+    out = tmp_path / "out" / "tiny-run"
+    assert (
+        main(["--log-level", "WARNING", "run", str(moved / "cases/tiny/case.yaml"), "-o", str(out)])
+        == 0
+    )
+    with (
+        xr.open_dataset(out / "result.nc") as again,
+        xr.open_dataset(moved / "cases/tiny/result.nc") as first,
+    ):
+        np.testing.assert_allclose(
+            again["pressure"].values, first["pressure"].values, rtol=1e-9, atol=1e-9
+        )
+    text = (moved / "cases/tiny/case.yaml").read_text()
+    assert "material: ../../materials/powernet.nc" in text  # relative to the case's folder
 
 
 def test_design_interpolates_and_explains_out_of_range():
@@ -198,14 +245,14 @@ def test_a_killed_run_leaves_no_corrupt_output_and_resumes(tmp_path):
         time.sleep(0.05)
     os.killpg(process.pid, signal.SIGKILL)  # kill -9 the whole run during relax
     process.wait()
-    for path in (where / "results").rglob("*.nc"):  # whatever exists is complete
+    for path in (where / "results-ci").rglob("*.nc"):  # whatever exists is complete
         with xr.open_dataset(path) as ds:
             ds.load()
     # Snakemake keeps its lock after a kill -9 and asks for --unlock first (docs/cluster.md)
     assert snakemake(where, "--configfile", "config/ci.yaml", "--unlock").returncode == 0
     result = snakemake(where, "--configfile", "config/ci.yaml", "--rerun-incomplete")
     assert result.returncode == 0, result.stderr[-2000:]
-    assert (where / "results/design_confirmed.csv").exists()
+    assert (where / "results-ci/design_confirmed.csv").exists()
 
 
 def test_mesh_body_pipeline_fits_its_surface_once(tmp_path):

@@ -108,19 +108,14 @@ def predeform(args: argparse.Namespace) -> int:
 def case_write(args: argparse.Namespace) -> int:
     import json
 
-    import yaml
-
-    from cloth.io import atomic_output
+    from cloth.files.casefile import write_case
     from cloth.pipeline.config import validate_case
 
     try:
         case = json.loads(args.json)
     except json.JSONDecodeError as exc:
         raise InputError(f"not valid JSON ({exc.msg})", field="--json") from None
-    case = validate_case(case, args.output)
-    with atomic_output(args.output) as tmp:
-        tmp.write_text(yaml.safe_dump(case.to_dict(), sort_keys=False))
-    log.info("wrote %s", args.output)
+    write_case(validate_case(case, args.output), args.output, args.base_dir)
     return 0
 
 

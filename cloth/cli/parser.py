@@ -419,5 +419,13 @@ def build_parser() -> argparse.ArgumentParser:
     )
     case_write.add_argument("--json", required=True, help="the case as a JSON object")
     case_write.add_argument("-o", "--output", type=_path, required=True, help="case YAML to write")
+    case_write.add_argument(
+        "--base-dir",
+        type=_path,
+        default=Path("."),
+        help="folder the JSON's relative paths are relative to (default: the working "
+        "directory); the written case stores them relative to its own folder, so it runs as "
+        "written from anywhere",
+    )
     case_write.set_defaults(handler="case_write")
     return parser

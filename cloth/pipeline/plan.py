@@ -1,14 +1,13 @@
 """The pipeline's plan from its config: every case by name, the sweep's index, the design's
-confirmation cases, checked before any job runs, and the workflow's file layout (`material_file`,
-`body_file`, `case_file`, `sweep_file`: the one place that knows where each file goes; the rules
-name their files through them). ``workflow/rules/common.smk`` keeps only the input functions
-that hand these to the rules.
+confirmation cases, checked before any job runs, in the config's file layout
+(`cloth.pipeline.layout`). ``workflow/rules/common.smk`` keeps only the input functions that
+hand these to the rules.
 
 Names: a sweep case is ``{material}__{body}__r{reduction x 1000:03d}`` plus its skin and wear
 variant's tag (`cloth.pipeline.variants`: none for a rigid, frictionless, new one); a configured
 case keeps its key; a confirmation case is `cloth.pipeline.sweep.confirm_name`. A case's material
-becomes its ingested file (``material_file("nc", material)``); a mesh body's smooth surface the
-pipeline's file (``body_file("surface.nc", name)``).
+becomes its ingested file (``layout.material_file("nc", material)``); a mesh body's smooth
+surface the pipeline's file (``layout.body_file("surface.nc", name)``).
 
 Paths in the config are relative to the working directory. Where a path does not exist there
 but does beside the workflow (``base``: its base directory, holding the bundled ``data/``),
@@ -29,35 +28,9 @@ from cloth.case import Case
 from cloth.errors import InputError
 from cloth.paths import input_file
 from cloth.pipeline.config import validate_case
+from cloth.pipeline.layout import DEFAULT, Layout, results_folder
 from cloth.pipeline.variants import Variant, sweep_variants
 from cloth.results.targets import Target
-
-#: Where the workflow writes its results, relative to the working directory.
-RESULTS = "results"
-
-
-def material_file(suffix: str, material: str = "{material}") -> str:
-    """A material's file: ``nc`` (ingested curves) or ``png`` (its figure); by default the
-    rules' wildcard pattern."""
-    return f"{RESULTS}/materials/{material}.{suffix}"
-
-
-def body_file(suffix: str, body: str = "{body}") -> str:
-    """A body's file: ``ply`` (a torso's mesh), ``txt`` (its check), ``surface.nc`` (a mesh's
-    fitted surface), ``check.txt``, ``curvature.png``."""
-    return f"{RESULTS}/bodies/{body}.{suffix}"
-
-
-def case_file(name: str, case: str = "{case}") -> str:
-    """A case's file: ``case.yaml``, ``initial.nc``, ``initial.png``, ``relaxed.nc``,
-    ``result.nc``, ``summary.csv``, ``garment.html`` or ``figures`` (its folder of figures)."""
-    return f"{RESULTS}/cases/{case}/{name}"
-
-
-def sweep_file(name: str) -> str:
-    """A file of the sweep and its design: ``sweep.nc``, ``sweep.csv``, ``design.png``,
-    ``sweep_on_body.png``, ``design.csv``, ``design_confirmed.csv``."""
-    return f"{RESULTS}/{name}"
 
 
 def data_path(path: str, base: str | Path | None) -> str:
@@ -71,14 +44,17 @@ def data_path(path: str, base: str | Path | None) -> str:
     return str(bundled) if bundled.exists() else path
 
 
-def local_body(body: dict, name: str, base: str | Path | None = None) -> dict:
+def local_body(
+    body: dict, name: str, base: str | Path | None = None, layout: Layout = DEFAULT
+) -> dict:
     """A body block with its files found (`data_path`) and, for a mesh body contacted through
-    its smooth surface (the default), the pipeline's surface file of body ``name``."""
+    its smooth surface (the default), the pipeline's surface file of body ``name`` (in
+    ``layout``)."""
     body = dict(body)
     if "mesh" in body:
         body["mesh"] = data_path(body["mesh"], base)
         if body.get("surface", "smooth") == "smooth":
-            body = {"surface_file": body_file("surface.nc", name), **body}
+            body = {"surface_file": layout.body_file("surface.nc", name), **body}
     for kind in ("torso", "leg"):
         if kind in body and "chart" in body[kind]:
             body[kind] = {**body[kind], "chart": data_path(body[kind]["chart"], base)}
@@ -104,6 +80,8 @@ class Plan:
 
     config: dict
     base: str | Path | None = None
+    #: Where the run's files go (its config's results folder).
+    layout: Layout = field(default_factory=Layout)
     cases: dict[str, Case] = field(default_factory=dict)
     sweep: dict[str, dict] = field(default_factory=dict)
     index: list[dict] = field(default_factory=list)
@@ -119,7 +97,7 @@ class Plan:
             bodies = config.get("bodies", {})
             same = [key for key, body in bodies.items() if body == block["body"]]
             block["body"] = local_body(
-                block["body"], same[0] if same else f"case-{name}", self.base
+                block["body"], same[0] if same else f"case-{name}", self.base, self.layout
             )
         block = dict(block)
         material = block.get("material")
@@ -130,7 +108,7 @@ class Plan:
                 "config",
                 f"{where}.{name}.material",
             )
-        block["material"] = material_file("nc", material)
+        block["material"] = self.layout.material_file("nc", material)
         return validate_case(block, f"config: {where}.{name}")
 
     def sweep_block(
@@ -141,7 +119,7 @@ class Plan:
         sweep = self.config["sweep"]
         block = {
             "material": material,
-            "body": local_body(self.config["bodies"][body], body, self.base),
+            "body": local_body(self.config["bodies"][body], body, self.base, self.layout),
             "garment": {**sweep["garment"], "reduction": reduction},
             "solver": sweep.get("solver", {}),
         }
@@ -172,12 +150,12 @@ class Plan:
         take as ``--json``."""
         cases = self.config.get("cases", {})
         if name.startswith("case-") and name[5:] in cases:
-            return local_body(cases[name[5:]]["body"], name, self.base)
-        return local_body(self.config["bodies"][name], name, self.base)
+            return local_body(cases[name[5:]]["body"], name, self.base, self.layout)
+        return local_body(self.config["bodies"][name], name, self.base, self.layout)
 
     def sweep_results(self) -> list[str]:
         """The result file of every sweep case, in the index's order (``cloth sweep``'s)."""
-        return [case_file("result.nc", entry["case"]) for entry in self.index]
+        return [self.layout.case_file("result.nc", entry["case"]) for entry in self.index]
 
 
 def _expand_sweep(plan: Plan) -> None:
@@ -244,7 +222,9 @@ def profile_design(plan: Plan, name: str) -> tuple[Case, list[str], float]:
     sweep = config.get("sweep") or {}
     block = {
         "material": design["material"],
-        "body": local_body(config["bodies"][design["body"]], design["body"], plan.base),
+        "body": local_body(
+            config["bodies"][design["body"]], design["body"], plan.base, plan.layout
+        ),
         "garment": {
             **sweep.get("garment", {}),
             **design.get("garment", {}),
@@ -269,12 +249,6 @@ def profile_design(plan: Plan, name: str) -> tuple[Case, list[str], float]:
         targets,
         float(design.get("tolerance_mmHg", 0.5)),
     )
-
-
-def design_file(name: str, design: str = "{design}") -> str:
-    """A file of a profile design: ``start.yaml``, ``design_confirmed.csv``,
-    ``design_profile.png``, ``pattern.csv``, ``pattern.svg``, ``case.yaml``, ``confirmed/``."""
-    return f"{RESULTS}/designs/{design}/{name}"
 
 
 #: The girth lines of the parametric bodies, known before any job runs.
@@ -357,11 +331,15 @@ def check_inputs(plan: Plan) -> None:
                 )
 
 
-def make_plan(config: dict, base: str | Path | None = None) -> Plan:
-    """The plan of a (schema-validated) config, every case validated, every number finite and
-    every input file present; `InputError` naming the config key on the first problem."""
+def make_plan(
+    config: dict, base: str | Path | None = None, config_file: str | Path | None = None
+) -> Plan:
+    """The plan of a (schema-validated) config read from ``config_file``, every case
+    validated, every number finite and every input file present, its files in the config's
+    results folder (`cloth.pipeline.layout.results_folder`); `InputError` naming the config key
+    on the first problem."""
     check_finite(config)
-    plan = Plan(config, base)
+    plan = Plan(config, base, Layout(results_folder(config, config_file)))
     check_inputs(plan)
     _expand_sweep(plan)
     check_targets(config)

@@ -3,8 +3,9 @@
 
 In ``DIR``:
 
-* ``case.yaml``: the case with the designed reduction profile (relative paths resolved from the
-  original case's folder, ``base_dir``);
+* ``case.yaml``: the case with the designed reduction profile, its relative paths stored
+  relative to ``DIR`` (`cloth.files.casefile`): it runs as written, and the confirmation runs it
+  so;
 * ``design_iterations.csv``: every equilibrium of the loop: its knot values and line means;
 * ``confirmed/``: the designed case relaxed from scratch (``initial.nc``, ``relaxed.nc``,
   ``result.nc``, ``summary.csv``; with its error estimate where the case asks for one);
@@ -27,13 +28,12 @@ from pathlib import Path
 import matplotlib.pyplot as plt
 import numpy as np
 import xarray as xr
-import yaml
 
 from cloth.errors import InputError
 from cloth.figures.plots import save_figure
 from cloth.files.body import body_from_record
+from cloth.files.casefile import write_case
 from cloth.files.pattern import write_pattern
-from cloth.io import atomic_output
 from cloth.pipeline.config import load_case
 from cloth.pipeline.sweep import write_rows
 from cloth.results.pressure import MMHG
@@ -63,11 +63,9 @@ def design_files(
     output.mkdir(parents=True, exist_ok=True)
     data = result.state.case.to_dict()
     data["garment"]["reduction"] = result.reduction()
-    designed = output / "case.yaml"
-    with atomic_output(designed) as tmp:
-        tmp.write_text(yaml.safe_dump(data, sort_keys=False))
+    designed = write_case(data, output / "case.yaml", base_dir)  # its paths from output
     _iterations(result, output / "design_iterations.csv")
-    run_case(designed, output / "confirmed", {}, base_dir, stop_after="aggregate")
+    run_case(designed, output / "confirmed", {}, stop_after="aggregate")  # as written
     confirmed = xr.load_dataset(output / "confirmed" / "result.nc")
     rows = _confirmed_rows(result, confirmed)
     write_rows(rows, output / "design_confirmed.csv", list(rows[0]))

@@ -1,6 +1,7 @@
 # Helpers shared by the rules: the plan's cases and blocks as the rules take them (JSON), and the
-# list of final outputs. Where each file goes is the plan's (cloth/pipeline/plan.py: material_file,
-# body_file, case_file, sweep_file).
+# list of final outputs. Where each file goes is the plan's layout (cloth/pipeline/layout.py:
+# material_file, body_file, case_file, sweep_file, design_file), under the config's own results
+# folder.
 import importlib.util
 import json
 
@@ -9,14 +10,7 @@ from snakemake.logging import logger
 from cloth import __version__ as CLOTH_VERSION
 from cloth.errors import InputError
 from cloth.pipeline.plan import body_files as plan_body_files
-from cloth.pipeline.plan import (
-    body_file,
-    case_file,
-    design_file,
-    make_plan,
-    material_file,
-    sweep_file,
-)
+from cloth.pipeline.plan import make_plan
 from cloth.pipeline.resources import stage_resources, surface_resources
 
 
@@ -40,7 +34,13 @@ def body_json(wildcards):
     return json.dumps(PLAN.body_block(wildcards.body), sort_keys=True)
 
 
-PLAN = make_plan(config, workflow.basedir)
+PLAN = make_plan(config, workflow.basedir, CONFIG_FILE)
+RESULTS = PLAN.layout.root
+material_file = PLAN.layout.material_file
+body_file = PLAN.layout.body_file
+case_file = PLAN.layout.case_file
+sweep_file = PLAN.layout.sweep_file
+design_file = PLAN.layout.design_file
 SWEEP_BLOCKS, SWEEP_INDEX, CASES = PLAN.sweep, PLAN.index, PLAN.cases
 DESIGNS = PLAN.designs
 

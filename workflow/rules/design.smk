@@ -32,5 +32,5 @@ rule profile_design:
         cloth_version=CLOTH_VERSION,
     shell:
         "(cloth case write --json {params.case:q} -o {output.start:q} && "
-        "cloth design {output.start:q} --base-dir . {params.targets} "
+        "cloth design {output.start:q} {params.targets} "
         "--tolerance {params.tolerance} -o {params.folder:q}) > {log:q} 2>&1"

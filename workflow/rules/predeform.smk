@@ -42,5 +42,5 @@ rule predeform:
     params:
         cloth_version=CLOTH_VERSION,
     shell:
-        "cloth predeform {input.case:q} --base-dir . -o {output.nc:q} --plot {output.png:q} "
+        "cloth predeform {input.case:q} -o {output.nc:q} --plot {output.png:q} "
         "> {log:q} 2>&1"

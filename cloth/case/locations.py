@@ -1,0 +1,58 @@
+"""The files a case names, and moving a case between folders without breaking them.
+
+A case names files by path: its material (a lab table or a material.nc; a bare name such as
+``powernet`` is a bundled table, not a path), a mesh body's mesh and its smooth surface, and a
+torso's or a leg's size chart. A case file's relative paths resolve against the case file's own
+folder (`cloth.stages.case`), so a case the tool writes stores them relative to the folder it
+is written into (`relocated`): it then runs as written from any working directory, and a folder
+holding the case and its files can be moved as a whole. An absolute path stays absolute.
+"""
+
+from __future__ import annotations
+
+import copy
+import os
+from pathlib import Path
+from typing import Any
+
+#: The keys of a case mapping that hold a path, as key paths from the top.
+PATH_KEYS: tuple[tuple[str, ...], ...] = (
+    ("material",),
+    ("body", "mesh"),
+    ("body", "surface_file"),
+    ("body", "torso", "chart"),
+    ("body", "leg", "chart"),
+)
+
+
+def is_path(keys: tuple[str, ...], value: str) -> bool:
+    """Whether ``value`` at ``keys`` names a file: always, except a material given by the
+    name of a bundled table (no suffix, no folder: `cloth.files.material.load_fabric`)."""
+    if keys == ("material",):
+        return bool(Path(value).suffix)
+    return True
+
+
+def relocated(data: dict[str, Any], source: str | Path, target: str | Path) -> dict[str, Any]:
+    """A copy of the case mapping ``data`` whose relative paths, relative to folder ``source``,
+    are rewritten relative to folder ``target`` (both taken from the working directory when
+    relative). Absolute paths and bundled material names are kept as they are."""
+    out = copy.deepcopy(data)
+    source_dir = os.path.abspath(source)
+    target_dir = os.path.abspath(target)
+    for keys in PATH_KEYS:
+        holder = out
+        for key in keys[:-1]:
+            holder = holder.get(key) if isinstance(holder, dict) else None
+            if holder is None:
+                break
+        if not isinstance(holder, dict) or not isinstance(holder.get(keys[-1]), str):
+            continue
+        value = holder[keys[-1]]
+        if os.path.isabs(os.path.expanduser(value)) or not is_path(keys, value):
+            continue
+        holder[keys[-1]] = os.path.relpath(os.path.join(source_dir, value), target_dir)
+    return out
+
+
+__all__ = ["PATH_KEYS", "is_path", "relocated"]

@@ -1,0 +1,127 @@
+"""Cases that travel: a case the tool writes stores its paths relative to its own folder
+(`cloth.case.locations`), so it runs as written from any working directory, and a folder
+holding it and its files can be moved whole. The pipeline's own cases (each case's, a design's
+start and designed case) are run after a move in tests/test_workflow.py."""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+import trimesh
+import xarray as xr
+import yaml
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from cloth.case.locations import PATH_KEYS, relocated
+from cloth.cli import main
+
+ROOT = Path(__file__).resolve().parents[1]
+QUIET = ["--log-level", "WARNING"]
+
+folder = st.lists(st.sampled_from(["a", "b", "c", ".."]), max_size=4).map(
+    lambda parts: os.path.join("/base", *parts) if parts else "/base"
+)
+
+
+@settings(max_examples=200, deadline=None)
+@given(source=folder, target=folder, name=st.sampled_from(["x.csv", "d/x.obj", "../x.nc"]))
+def test_a_relocated_path_names_the_same_file(source, target, name):
+    data = {
+        "material": name,
+        "body": {"mesh": name, "surface_file": "/abs/s.nc", "torso": {"chart": name}},
+    }
+    out = relocated(data, source, target)
+    for keys in (("material",), ("body", "mesh"), ("body", "torso", "chart")):
+        value = out
+        for key in keys:
+            value = value[key]
+        assert not os.path.isabs(value)
+        same = os.path.normpath(os.path.join(target, value))
+        assert same == os.path.normpath(os.path.join(source, name)), (keys, value)
+    assert out["body"]["surface_file"] == "/abs/s.nc"  # absolute stays absolute
+    assert data["material"] == name  # the input is not changed
+
+
+def test_a_bundled_material_name_and_every_path_key_are_handled():
+    data = {"material": "powernet", "body": {"leg": {"size": "M", "chart": "c.csv"}}}
+    out = relocated(data, "/p", "/p/q")
+    assert out["material"] == "powernet" and out["body"]["leg"]["chart"] == "../c.csv"
+    assert {keys[0] for keys in PATH_KEYS} == {"material", "body"}
+
+
+def _tree(tree: Path) -> None:
+    """A project folder: a lab table, a leg chart and a mesh, as a user keeps them."""
+    (tree / "tables").mkdir(parents=True)
+    shutil.copy(ROOT / "data/materials/powernet.csv", tree / "tables/net.csv")
+    (tree / "charts").mkdir()
+    shutil.copy(ROOT / "data/bodies/leg_chart.csv", tree / "charts/legs.csv")
+    (tree / "scans").mkdir()
+    tube = trimesh.creation.cylinder(radius=0.1, height=0.6, sections=48)
+    tube.apply_translation([0.0, 0.0, 0.3])
+    tube.export(tree / "scans/tube.obj")
+
+
+CASES = {
+    "leg": {
+        "material": "tables/net.csv",
+        "body": {"leg": {"size": "M", "chart": "charts/legs.csv"}},
+        "garment": {"bottom": 0.2, "top": 0.4, "reduction": 0.15, "grid": [16, 6]},
+    },
+    "mesh": {
+        "material": "material/net.nc",
+        "body": {"mesh": "scans/tube.obj", "surface": "mesh"},
+        "garment": {"bottom": 0.2, "top": 0.4, "reduction": 0.15, "grid": [16, 6]},
+    },
+}
+
+
+@pytest.mark.parametrize("kind", sorted(CASES))
+def test_a_written_case_runs_from_anywhere_after_its_folder_moves(kind, tmp_path, monkeypatch):
+    tree = tmp_path / "project"
+    _tree(tree)
+    monkeypatch.chdir(tree)
+    if kind == "mesh":  # the material as its ingested file
+        ingest = ["material", "ingest", "tables/net.csv", "-o", "material/net.nc"]
+        assert main([*QUIET, *ingest]) == 0
+    case = tree / "runs" / kind / "case.yaml"
+    assert main([*QUIET, "case", "write", "--json", json.dumps(CASES[kind]), "-o", str(case)]) == 0
+    written = yaml.safe_load(case.read_text())
+    assert written["material"] == os.path.join("..", "..", CASES[kind]["material"])
+    before = tmp_path / "before.nc"
+    assert main([*QUIET, "predeform", str(case), "-o", str(before)]) == 0
+
+    shutil.move(tree, tmp_path / "shared" / "copy")
+    (tmp_path / "elsewhere").mkdir()
+    monkeypatch.chdir(tmp_path / "elsewhere")
+    moved = tmp_path / "shared" / "copy" / "runs" / kind / "case.yaml"
+    out = tmp_path / "out"
+    assert main([*QUIET, "run", str(moved), "-o", str(out), "--stop-after", "relax"]) == 0
+    with xr.open_dataset(before) as first, xr.open_dataset(out / "initial.nc") as again:
+        for c in ("x", "y", "z"):
+            np.testing.assert_array_equal(first[c].values, again[c].values)
+    # written again from its new folder (a relative --base-dir), it still names the same files
+    again_case = tmp_path / "elsewhere" / "copy.yaml"
+    base = os.path.relpath(moved.parent, tmp_path / "elsewhere")
+    assert (
+        main(
+            [
+                *QUIET,
+                "case",
+                "write",
+                "--json",
+                json.dumps(yaml.safe_load(moved.read_text())),
+                "--base-dir",
+                base,
+                "-o",
+                str(again_case),
+            ]
+        )
+        == 0
+    )
+    assert main([*QUIET, "predeform", str(again_case), "-o", str(tmp_path / "again.nc")]) == 0
