@@ -32,6 +32,7 @@ from cloth.results.pressure import MMHG
 from cloth.results.targets import Target
 from cloth.stages.case import initial_state
 from cloth.stages.design import MAX_SOLVES, design
+from cloth.stages.graded import confirmed_rows
 
 ROOT = Path(__file__).resolve().parents[1]
 RADIUS = 0.1
@@ -103,6 +104,87 @@ def test_the_cylinder_design_is_laplace_row_by_row(tmp_path, coupling):
         )
     if coupling == "on":
         assert np.all(warp[1:-1] > 0.05)
+
+
+def test_a_target_past_the_lab_range_stops_at_its_end_and_says_so(tmp_path):
+    """One line, the soft warp (its tension barely changes the rows): the lab curve's last knot
+    caps the weft strain, and Laplace's law gives the pressure there in closed form,
+    p_cap = sigma_last t / R. A target 2 mmHg past it, with a 0.5 mmHg tolerance, stops at p_cap
+    (measured: equal to 1e-9) and reports the shortfall (the bound that binds named)."""
+    material = str(_soft_warp(tmp_path))
+    fabric = load_fabric(material, ROOT)
+    p_cap = float(fabric.weft.knot_stress[-1]) * fabric.thickness / RADIUS
+    case = {
+        "material": material,
+        "body": {"cylinder": {"radius": RADIUS}},
+        "landmarks": {"middle": 0.25},
+        "garment": {
+            "bottom": 0.1,
+            "top": 0.4,
+            "grid": [N, 13],
+            "reduction": 0.2,
+            "error_estimate": False,
+        },
+        "solver": {"tolerance": 1.0e-12},
+        "girth_reading": {"half_width": 0.01},
+    }
+    state = initial_state(case, ROOT)
+    target = Target("middle", p_cap + 2.0 * MMHG)
+    result = design(state, body_from_record(state.body), [target], tolerance=0.5 * MMHG)
+    assert result.achieved[0] == pytest.approx(p_cap, rel=1e-6)
+    assert result.shortfall is not None and not result.met
+    assert "middle" in result.shortfall and "lab curve" in result.shortfall
+
+
+def test_the_confirmed_values_are_the_confirmation_file_s(tmp_path):
+    """design_confirmed.csv's confirmed column is read from the confirmation's own result.nc
+    (here one whose line reads 3 % above the loop's equilibrium), never the loop's value; met
+    and the error follow the file too."""
+    result = _cylinder_design(str(_soft_warp(tmp_path)), 0.0)
+    lines = list(result.lines)
+    confirmed = xr.Dataset(
+        {
+            "pressure_mean": ("landmark", 1.03 * result.achieved),
+            "pressure_mean_error": ("landmark", np.full(len(lines), 0.25 * MMHG)),
+            "landmark_height": ("landmark", [LINES[line] for line in lines]),
+        },
+        coords={"landmark": lines},
+    )
+    path = write_netcdf(confirmed, tmp_path / "result.nc")
+    rows = confirmed_rows(result, xr.load_dataset(path))
+    for k, row in enumerate(rows):
+        assert row["confirmed_mmHg"] == pytest.approx(1.03 * result.achieved[k] / MMHG, rel=1e-12)
+        assert row["designed_mmHg"] == pytest.approx(result.achieved[k] / MMHG, rel=1e-12)
+        assert row["confirmed_error_mmHg"] == pytest.approx(0.25)
+        assert row["met"] == 0  # 3 % of 12-20 mmHg is past the 0.01 mmHg tolerance
+
+
+def test_the_tolerance_given_on_the_line_is_the_design_s(tmp_path):
+    """``cloth design --tolerance 0.8``: the loop stops within 0.8 mmHg and
+    design_confirmed.csv says so (the default is 0.5)."""
+    case = {
+        "material": "powernet",
+        "body": {"cylinder": {"radius": RADIUS}},
+        "landmarks": {"middle": 0.25},
+        "garment": {"bottom": 0.1, "top": 0.4, "grid": [16, 7], "reduction": 0.2},
+    }
+    (tmp_path / "case.yaml").write_text(yaml.safe_dump(case))
+    command = [sys.executable, "-m", "cloth", "--log-level", "ERROR", "design"]
+    command += [str(tmp_path / "case.yaml"), "--target", "middle=20", "--tolerance", "0.8"]
+    done = subprocess.run([*command, "-o", str(tmp_path / "out")], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr[-2000:]
+    (row,) = _rows(tmp_path / "out" / "design_confirmed.csv")
+    assert float(row["tolerance_mmHg"]) == pytest.approx(0.8)
+    with xr.open_dataset(tmp_path / "out" / "confirmed" / "result.nc") as ds:
+        value = float(ds["pressure_mean"].sel(landmark="middle")) / MMHG
+    assert row["confirmed_mmHg"] == f"{value:.6g}"  # read from the confirmation's file
+
+
+@pytest.mark.parametrize("text", ["hip=1e400", "hip=inf", "hip=nan", "hip=-inf"])
+def test_a_target_that_is_not_a_finite_number_is_refused(text):
+    with pytest.raises(InputError, match="not a target") as caught:
+        Target.parse(text)
+    assert caught.value.field == "--target"
 
 
 def _warp_strain(result) -> np.ndarray:

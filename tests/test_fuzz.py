@@ -144,8 +144,37 @@ def test_a_non_finite_solver_number_is_refused_before_any_file(tmp_path):
     code, err = run_cloth(
         "run", str(tmp_path / "case.yaml"), "-o", str(tmp_path / "out"), "--base-dir", str(ROOT)
     )
-    assert code == 2 and "solver.tolerance" in err and "finite" in err
+    assert code == 2 and "solver.tolerance" in err
+    message = err.strip().split("solver.tolerance: ", 1)[1]  # the message alone, not the path
+    assert "is not a finite number" in message
     assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("key", ["tolerance", "max_iterations"])
+@pytest.mark.parametrize("value", [float("inf"), float("nan"), float("-inf")])
+def test_the_validator_refuses_a_number_that_is_not_finite(key, value):
+    """YAML's .inf and .nan pass JSON Schema's number type and its bounds (NaN compares false):
+    the validator's own finite check names the key."""
+    case = {**TINY, "solver": {key: value}}
+    with pytest.raises(InputError) as caught:
+        validate_case(case, "case.yaml")
+    assert caught.value.field == f"solver.{key}"
+    assert "not a finite number" in caught.value.detail
+
+
+def test_a_path_with_a_nul_character_is_refused_in_one_line(capsys, tmp_path):
+    """A NUL cannot be in a path (the OS refuses it with ValueError, a traceback): it is named
+    before any work, from the command line and from a case."""
+
+    assert main(["body", "torso", "--size", "M", "-o", str(tmp_path / "a\0b.ply")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "NUL" in err[0] and "--output" in err[0]
+    case = {**TINY, "body": {"mesh": "scan\0.obj"}}
+    (tmp_path / "case.yaml").write_text(yaml.safe_dump(case))
+    assert main(["run", str(tmp_path / "case.yaml"), "-o", str(tmp_path / "out")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "NUL" in err[0] and "body.mesh" in err[0]
+    assert not list(tmp_path.glob("a*")) and not (tmp_path / "out").exists()
 
 
 def test_a_material_name_too_long_for_a_path_is_refused_in_one_line(tmp_path):

@@ -14,12 +14,19 @@ import pytest
 from scipy.interpolate import PchipInterpolator
 
 from cloth.bodies.leg import POINTS, SmoothLeg, _profiles, leg_mesh, leg_size
-from cloth.bodies.sectioned import perimeter
 from cloth.results.pressure import MMHG
 from tests.conftest import load_result
 
 ROOT = Path(__file__).resolve().parents[1]
 CHART = ROOT / "data" / "bodies" / "leg_chart.csv"
+
+
+def perimeter(points: np.ndarray) -> float:
+    """The length of the closed polygon through ``points`` ((K, 2) or (K, 3), m), the closing
+    edge included: measured here, not with the builder's own `perimeter`, so that a builder
+    scaling its sections with a wrong measure (an open polygon) is caught."""
+    closed = np.vstack([points, points[:1]])
+    return float(np.sum(np.hypot(*np.diff(closed[:, :2], axis=0).T)))
 
 
 @pytest.mark.parametrize("size", ["S", "M", "L"])
@@ -83,8 +90,16 @@ def _bad_chart(folder: Path, change) -> Path:
         (lambda row: row.update(C_cm=""), "size M, point C"),
         (lambda row: row.update(D_height_cm="30"), "size M, point D"),
         (lambda row: row.update(F_cm="0"), "size M, point F"),
+        (lambda row: row.update(C_cm="inf"), "size M, point C"),
+        (lambda row: row.update(D_height_cm="nan"), "size M, point D"),
     ],
-    ids=["missing point", "non-monotone height", "zero circumference"],
+    ids=[
+        "missing point",
+        "non-monotone height",
+        "zero circumference",
+        "infinite circumference",
+        "nan height",
+    ],
 )
 def test_a_bad_chart_is_one_line_naming_the_size_and_the_point(tmp_path, change, words):
     chart = _bad_chart(tmp_path, change)
@@ -225,3 +240,23 @@ def test_a_leaning_leg_has_exact_derivatives_and_the_chart_s_girths():
     centre = leg._polygon(chart.height["G"]).mean(axis=0)
     lean = np.tan(np.radians(8.0)) * (chart.height["G"] - chart.height["B"])
     assert centre[1] == pytest.approx(lean, abs=1e-3)
+
+
+def test_a_leaning_leg_pivots_at_the_ankle_on_the_surface_and_the_mesh():
+    """The lean turns the leg about B: B's section stays where the upright leg has it, and G's
+    moves forward by tan(lean) (G - B), on the smooth surface and on the mesh alike."""
+    chart = leg_size("M")
+    slope = np.tan(np.radians(8.0))
+    upright, leaning = SmoothLeg(chart), SmoothLeg(chart, 8.0)
+    vertices, _ = leg_mesh(chart, 96, 160, 8.0)
+    flat, _ = leg_mesh(chart, 96, 160)
+    for point in ("B", "C", "G"):
+        z = chart.height[point]
+        shift = slope * (z - chart.height["B"])
+        moved = leaning._polygon(z).mean(axis=0) - upright._polygon(z).mean(axis=0)
+        np.testing.assert_allclose(moved, [0.0, shift], atol=1e-6)
+        ring = vertices[np.isclose(vertices[:, 2], z, atol=1e-12)]
+        ring0 = flat[np.isclose(flat[:, 2], z, atol=1e-12)]
+        np.testing.assert_allclose(
+            ring[:, :2].mean(axis=0) - ring0[:, :2].mean(axis=0), [0.0, shift], atol=1e-6
+        )

@@ -148,6 +148,19 @@ def test_pattern_files_agree_at_one_to_one_in_mm(graded, tmp_path, cut):
     w, h = (float(root.get(k).removesuffix("mm")) for k in ("width", "height"))
     assert [float(v) for v in root.get("viewBox").split()] == pytest.approx([0, 0, w, h], abs=1e-3)
     assert w == pytest.approx(width.max() + 40.0, abs=1e-3)
+    # y up on the pattern is y down in SVG: row j at h - 20 - its height, the top row highest
+    space = "{http://www.w3.org/2000/svg}"
+    polygon = root.find(f"{space}polygon")
+    svg = np.array([[float(v) for v in p.split(",")] for p in polygon.get("points").split()])
+    np.testing.assert_allclose(svg[:m, 1], h - 20.0 - height, atol=1e-3)
+    assert svg[m - 1, 1] < svg[0, 1]
+    np.testing.assert_allclose(svg[m:, 0][::-1] - svg[:m, 0], width, atol=1e-3)
+    (line,) = root.findall(f"{space}line")
+    y_line = h - 20.0 - np.interp(0.25, z, 1e3 * ds["pattern_height"].values)
+    assert float(line.get("y1")) == pytest.approx(y_line, abs=1e-3)
+    assert float(line.get("y2")) == pytest.approx(y_line, abs=1e-3)
+    span = float(line.get("x2")) - float(line.get("x1"))
+    assert span == pytest.approx(np.interp(h - 20.0 - y_line, height, width), abs=1e-3)
 
 
 def test_pattern_cli_refuses_a_bad_format_and_writes_nothing(graded, tmp_path):

@@ -388,3 +388,26 @@ def test_the_bodys_reaction_balances_what_the_springs_leave_on_a_held_node():
     unbalanced = np.array([[0.0, 0.0, -1.0], [1.0, 0.0, 0.0]])
     reaction = contact_reaction(forces, unbalanced, np.array([True, False]))
     np.testing.assert_array_equal(reaction, [[0.0, 0.0, 4.0], [0.0, 0.0, 0.0]])
+
+
+@pytest.mark.parametrize(
+    ("c_mmhg", "met"),
+    [(21.0, 1), (15.0, 0), (28.5, 0), (18.0, 1), (24.0, 1)],
+    ids=["inside", "below", "above", "at-low", "at-high"],
+)
+def test_graduation_is_met_inside_its_limits_only(c_mmhg, met):
+    """A point's graduation is met where its share of the class point's pressure lies within
+    its limits (ends included), not outside; a line without limits is left blank."""
+    from cloth.case.judge import Judge
+    from cloth.results.judging import judged
+
+    judge = Judge.from_block({"graduation": {"C": [0.6, 0.8]}})
+    rows = [
+        {"landmark": "B", "pressure_mean_mmHg": 30.0},
+        {"landmark": "C", "pressure_mean_mmHg": c_mmhg},
+        {"landmark": "waist", "pressure_mean_mmHg": 10.0},
+    ]
+    b, c, other = judged(rows, judge)
+    assert c["share_of_class_point"] == c_mmhg / 30.0  # 18 / 30 is the float 0.6: ends exact
+    assert c["graduation_met"] == met
+    assert other["graduation_met"] == "" and b["compression_class"] == "II"

@@ -67,7 +67,7 @@ def design_files(
     _iterations(result, output / "design_iterations.csv")
     run_case(designed, output / "confirmed", {}, stop_after="aggregate")  # as written
     confirmed = xr.load_dataset(output / "confirmed" / "result.nc")
-    rows = _confirmed_rows(result, confirmed)
+    rows = confirmed_rows(result, confirmed)
     write_rows(rows, output / "design_confirmed.csv", list(rows[0]))
     plot_profile_design(rows, output / "design_profile.png")
     formats = ["csv", "svg"] + (["dxf"] if importlib.util.find_spec("ezdxf") else [])
@@ -112,7 +112,10 @@ def _iterations(result: Design, path: Path) -> None:
     write_rows(rows, path, header)
 
 
-def _confirmed_rows(result: Design, confirmed: xr.Dataset) -> list[dict[str, object]]:
+def confirmed_rows(result: Design, confirmed: xr.Dataset) -> list[dict[str, object]]:
+    """design_confirmed.csv's rows: per target line of ``result``, its value, error and
+    whether it is met read from ``confirmed`` (the confirmation's own result.nc), beside the
+    loop's value (``designed_mmHg``) and the uniform answer; mmHg."""
     names = [str(v) for v in confirmed["landmark"].values]
     error = (
         confirmed["pressure_mean_error"].values
