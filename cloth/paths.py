@@ -83,10 +83,21 @@ def input_file(
 def output_path(
     value: object, field: str | None, folder: bool = False, source: str | Path | None = None
 ) -> Path:
-    """``value`` checked as where an output goes: a path's form; a file output not an existing
-    folder, a ``folder`` output not an existing file; the nearest existing folder above it a
-    folder (not a file) that can be written to."""
+    """``value`` checked as where an output goes: a path's form; no ``..`` after a folder that
+    does not exist yet; a file output named (not ``..``) and not an existing folder, a
+    ``folder`` output not an existing file; the nearest existing folder above it a folder (not
+    a file) that can be written to."""
     path = path_form(value, source, field)
+    for index, part in enumerate(path.parts):  # "new/.." needs "new", which is not there yet
+        if part == ".." and not Path(*path.parts[:index] or ".").is_dir():
+            raise InputError(
+                f"{shown(path)} goes up (..) out of {shown(Path(*path.parts[:index]))}, which "
+                "is not a folder; give the path without it",
+                source,
+                field,
+            )
+    if not folder and path.name in ("", ".", ".."):
+        raise InputError(f"{shown(path)} names a folder; give a file name", source, field)
     if folder and path.exists() and not path.is_dir():
         raise InputError(f"{shown(path)} is a file; give a folder for the outputs", source, field)
     if not folder and path.is_dir():

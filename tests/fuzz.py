@@ -216,3 +216,44 @@ def corrupted_text(draw: st.DrawFn, text: str) -> str:
         else:
             lines.insert(i, draw(st.text(max_size=30)))
     return "\n".join(lines) + ("\n" if draw(st.booleans()) else "")
+
+
+#: Pieces of paths as users type them, and some no file system takes.
+PATH_PARTS = [
+    "out.ply",
+    "a_file",
+    "a_folder",
+    "new",
+    "..",
+    ".",
+    "",
+    " ",
+    "x" * 300,
+    "caf\u00e9.ply",
+    "a\0b.ply",
+    "sp ace.ply",
+    "-o",
+]
+
+
+@st.composite
+def odd_paths(draw: st.DrawFn) -> str:
+    """A relative path of one to three odd pieces (an empty one is the empty path)."""
+    parts = draw(st.lists(st.sampled_from(PATH_PARTS), min_size=1, max_size=3))
+    return "/".join(parts).strip("/") if any(parts) else ""
+
+
+@st.composite
+def odd_targets(draw: st.DrawFn) -> str:
+    """``--target`` text: a line name (or none), ``=`` (or not), a number as users and
+    programs write them (or not one), a unit (or a wrong one)."""
+    line = draw(st.sampled_from(["waist", "hip", "", " ", "0.25", "a b", "B1", "=", "w\u00e4ist"]))
+    sign = draw(st.sampled_from(["=", "", "==", " = "]))
+    number = draw(
+        st.one_of(
+            st.sampled_from(["20", "1e400", "inf", "nan", "-3", "0", "1e-300", "", "2.0.0", "x"]),
+            st.floats(allow_nan=True, allow_infinity=True).map(repr),
+        )
+    )
+    unit = draw(st.sampled_from(["", "mmHg", "kPa", "Pa", "psi", " mmHg", "MMHG"]))
+    return f"{line}{sign}{number}{unit}"

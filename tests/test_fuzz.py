@@ -1,6 +1,8 @@
-"""Bad input never gets past the door, as a property: a mutated case, lab table or mesh file
-either runs (exit 0) or is refused in one line with exit 2, leaving no file where the output was
-asked for, and never raises past the command (a traceback). Strategies: tests/fuzz.py.
+"""Bad input never gets past the door, as a property: a mutated case, lab table, mesh file, leg
+chart, command-line path or design target is either refused in one line with exit 2, leaving no
+file where the output was asked for, or accepted as what its validator accepts (a case equal to
+the one `validate_case` types, a chart `leg_size` reads, a target `Target.parse` reads), and
+never raises past the command (a traceback). Strategies: tests/fuzz.py.
 
 ``make test`` draws 30 examples per target (200 for the case's validation alone, which is
 cheap); ``make test-slow`` 200 per target. Draws are derandomised, so a run is reproducible;
@@ -11,18 +13,26 @@ from __future__ import annotations
 
 import contextlib
 import io
+import json
+import math
 import tempfile
 from pathlib import Path
 
+import numpy as np
 import pytest
+import xarray as xr
 import yaml
 from hypothesis import HealthCheck, given, settings
 
+from cloth.bodies.leg import POINTS, leg_size
 from cloth.case import Case
 from cloth.cli import main
 from cloth.errors import InputError
+from cloth.files.material import KIND, fabric_from_dataset
+from cloth.io import read_netcdf
 from cloth.pipeline.config import validate_case
-from tests.fuzz import TINY, bad_cases, corrupted_text
+from cloth.results.targets import Target
+from tests.fuzz import TINY, bad_cases, corrupted_text, odd_paths, odd_targets
 
 ROOT = Path(__file__).resolve().parents[1]
 TABLE = (ROOT / "data" / "materials" / "powernet.csv").read_text()
@@ -50,9 +60,11 @@ def run_cloth(*args: str) -> tuple[int, str]:
     return code, err.getvalue()
 
 
-def assert_ran_or_refused(code: int, err: str, output: Path) -> None:
-    """The property: exit 0, or exit 2 with one line and nothing written at ``output``."""
+def assert_ran_or_refused(code: int, err: str, output: Path, writes: bool = True) -> None:
+    """Exit 0 (the caller checks what was accepted; the command wrote ``output`` where it
+    ``writes`` one), or exit 2 with one line and nothing written at ``output``."""
     if code == 0:
+        assert output.exists() or not writes, f"accepted, but nothing written at {output}"
         return
     assert code == 2, f"exit {code}: {err}"
     lines = err.strip().splitlines()
@@ -87,6 +99,11 @@ def test_a_mutated_case_runs_or_is_refused_in_one_line(count):
             out = Path(tmp) / "out"
             code, err = run_cloth("run", str(path), "-o", str(out), "--base-dir", str(ROOT))
             assert_ran_or_refused(code, err, out)
+            if code == 0:  # accepted: the case the validator types, and the one the run used
+                typed = validate_case(yaml.safe_load(path.read_text()), path)
+                with xr.open_dataset(out / "initial.nc") as initial:
+                    used = json.loads(initial.attrs["case"])
+                assert used == json.loads(json.dumps(typed.to_dict(), sort_keys=True))
 
     check()
 
@@ -101,6 +118,11 @@ def test_a_corrupted_lab_table_is_ingested_or_refused_in_one_line(count):
             table.write_text(text)
             code, err = run_cloth("material", "ingest", str(table), "-o", str(out))
             assert_ran_or_refused(code, err, out)
+            if code == 0:  # accepted: curves a fabric is made of, every number finite
+                fabric = fabric_from_dataset(read_netcdf(out, KIND))
+                for curve in (fabric.weft, fabric.warp):
+                    assert np.all(np.isfinite(curve.knot_stress))
+                    assert np.all(np.diff(curve.knot_strain) > 0)
 
     check()
 
@@ -126,7 +148,7 @@ def test_a_corrupted_mesh_is_checked_or_refused_in_one_line(count, mesh_text):
             mesh.write_text(text)
             out = Path(tmp) / "curvature.png"
             code, err = run_cloth("body", "check", str(mesh), "--surface", "mesh")
-            assert_ran_or_refused(code, err, out)
+            assert_ran_or_refused(code, err, out, writes=False)
 
     check()
 
@@ -232,3 +254,94 @@ def test_a_material_table_beside_a_case_in_a_relative_folder_is_found(tmp_path, 
     code, err = run_cloth("run", "cases/case.yaml", "-o", "out", "--stop-after", "predeform")
     assert code == 0, err
     assert (tmp_path / "out" / "initial.nc").is_file()
+
+
+LEG_CHART = (ROOT / "data" / "bodies" / "leg_chart.csv").read_text()
+
+
+@pytest.mark.parametrize("count", COUNTS)
+def test_a_corrupted_leg_chart_is_a_leg_or_refused_in_one_line(count):
+    """Accepted: the chart `leg_size` reads, every circumference and height finite and
+    positive, and the mesh written."""
+
+    @_settings(count)
+    @given(corrupted_text(LEG_CHART))
+    def check(text):
+        with tempfile.TemporaryDirectory() as tmp:
+            chart, out = Path(tmp) / "legs.csv", Path(tmp) / "leg.ply"
+            chart.write_text(text)
+            args = ["body", "leg", "--size", "M", "--chart", str(chart), "--around", "12"]
+            code, err = run_cloth(*args, "--rings", "20", "-o", str(out))
+            assert_ran_or_refused(code, err, out)
+            if code == 0:
+                leg = leg_size("M", chart)
+                for point in POINTS:
+                    assert math.isfinite(leg.girth[point]) and leg.girth[point] > 0
+                    assert math.isfinite(leg.height[point]) and leg.height[point] > 0
+
+    check()
+
+
+@pytest.mark.parametrize("count", COUNTS)
+def test_an_odd_output_path_is_written_there_or_refused_in_one_line(count):
+    """A path as users type them (empty, a NUL, too long, under a file, a folder, unicode):
+    accepted means the file is at that path."""
+
+    @_settings(count)
+    @given(odd_paths())
+    def check(name):
+        with tempfile.TemporaryDirectory() as tmp:
+            (Path(tmp) / "a_file").write_text("x")
+            (Path(tmp) / "a_folder").mkdir()
+            target = Path(tmp) / name if name else Path("")
+            code, err = run_cloth(
+                "body", "torso", "--size", "S", "--around", "12", "--rings", "10", "-o", str(target)
+            )
+            if code == 0:
+                assert target.is_file() and target.stat().st_size > 0
+            else:
+                assert code == 2, f"exit {code}: {err}"
+                lines = err.strip().splitlines()
+                assert len(lines) == 1 and lines[0].startswith("cloth: error: "), err
+                assert sorted(p.name for p in Path(tmp).iterdir()) == ["a_file", "a_folder"]
+
+    check()
+
+
+@pytest.mark.parametrize("count", COUNTS)
+def test_a_design_target_is_read_as_the_parser_reads_it_or_refused_in_one_line(count, tmp_path):
+    """``--target`` text: what `Target.parse` refuses, ``cloth design`` refuses in one line
+    before any work (no output folder); what it reads is a named line at a finite positive
+    pressure that reads back the same in Pa."""
+    case = tmp_path / "case.yaml"
+    case.write_text(yaml.safe_dump(TINY))
+
+    @_settings(count)
+    @given(odd_targets())
+    def check(text):
+        try:
+            target = Target.parse(text)
+        except InputError as exc:
+            assert exc.field == "--target" and "\n" not in str(exc)
+            out = tmp_path / "out"
+            code, err = run_cloth("design", str(case), f"--target={text}", "-o", str(out))
+            assert code == 2 and len(err.strip().splitlines()) == 1 and "--target" in err, err
+            assert not out.exists()
+        else:
+            assert target.line and math.isfinite(target.pressure) and target.pressure > 0
+            again = Target.parse(f"{target.line}={target.pressure!r}Pa")
+            assert again == target
+
+    check()
+
+
+@pytest.mark.parametrize(
+    ("name", "says"),
+    [("out.ply/../out.ply", "goes up (..) out of"), ("out.ply/..", "goes up (..) out of")],
+)
+def test_an_output_going_up_out_of_a_folder_not_yet_made_is_refused(tmp_path, name, says):
+    """Regressions the path fuzzer found: ``-o out.ply/../out.ply`` made the folder out.ply,
+    then could not rename onto it (IsADirectoryError); ``-o out.ply/..`` renamed onto '..'."""
+    code, err = run_cloth("body", "torso", "--size", "S", "-o", str(tmp_path / name))
+    assert code == 2 and says in err and len(err.strip().splitlines()) == 1
+    assert list(tmp_path.iterdir()) == []
