@@ -82,7 +82,7 @@ window.addEventListener("load", () => setTimeout(() => {
 </script>"""
 
 
-def _chromium(*args):
+def _chromium(*args, window: str = "1000,800"):
     flags = [
         "--headless=new",
         "--no-sandbox",
@@ -90,7 +90,7 @@ def _chromium(*args):
         "--use-angle=swiftshader",
         "--enable-unsafe-swiftshader",
         "--virtual-time-budget=15000",
-        "--window-size=1000,800",
+        f"--window-size={window}",
     ]
     return subprocess.run([CHROMIUM, *flags, *args], capture_output=True, text=True, timeout=120)
 
@@ -121,3 +121,45 @@ def test_a_real_browser_draws_the_garment_without_errors(page, tmp_path):
     scene = pixels[:, :800]
     chromatic = (scene.max(axis=2) - scene.min(axis=2)) > 40
     assert chromatic.mean() > 0.05, chromatic.mean()
+
+
+@pytest.mark.browser
+@pytest.mark.skipif(
+    CHROMIUM is None,
+    reason="no chromium (Debian package chromium; .ci/run installs it where apt is available)",
+)
+def test_the_first_camera_shows_a_whole_leg(tmp_path):
+    """A stocking's garment.html at 1400 x 900: the garment (its shaded colours) spans most of
+    the scene's height and touches neither its top nor its bottom (plotly's data aspect with
+    its default camera cropped a leg at both ends)."""
+    import matplotlib.image
+
+    from tests.conftest import run_result
+
+    case = {
+        "material": "powernet",
+        "body": {"leg": {"size": "M"}},
+        "garment": {
+            "bottom": 0.09,
+            "top": 0.77,
+            "reduction": 0.16,
+            "grid": [12, 16],
+            "edges": "sliding",
+            "lengthwise_reduction": 0.15,
+            "error_estimate": False,
+        },
+        "solver": {"method": "newton", "tolerance": 1.0e-8, "max_iterations": 150},
+    }
+    out = run_result(tmp_path / "leg", case)
+    page = tmp_path / "garment.html"
+    assert main(["view", str(out / "result.nc"), "-o", str(page)]) == 0
+    shot = tmp_path / "shot.png"
+    _chromium(f"--screenshot={shot}", page.as_uri(), window="1400,900")
+    pixels = (matplotlib.image.imread(shot)[..., :3] * 255).round().astype(int)
+    scene = pixels[100:, 200:1150]  # below the title and the menu, left of the colour bar
+    chromatic = (scene.max(axis=2) - scene.min(axis=2)) > 40
+    rows = np.flatnonzero(chromatic.any(axis=1))
+    assert rows.size, "no garment drawn"
+    height = scene.shape[0]
+    assert rows[0] > 5 and rows[-1] < height - 5, (rows[0], rows[-1], height)
+    assert (rows[-1] - rows[0]) / height > 0.5, (rows[0], rows[-1], height)

@@ -52,6 +52,16 @@ BODY_MARGIN = 0.08
 CMAP = "viridis"
 #: The body's colour (RGBA): light grey, translucent.
 BODY_COLOUR = (0.78, 0.78, 0.8, 0.35)
+#: Space around the body in a view, m; room for the girth labels on the screen's right, as a
+#: share of the body's height; gap between the body and a label, m.
+FRAME_PAD, LABEL_GAP = 0.01, 0.01
+#: The girth labels' size, points, and the room they take beside the body, inches (the longest,
+#: "underbust 99.9 mmHg", is about 1.1 in at 7 points).
+LABEL_POINTS, LABEL_ROOM_INCHES = 7, 1.15
+#: The 3D box's zoom in its panel (matplotlib's default 1 leaves a wide margin).
+ZOOM = 1.25
+#: Height of a figure's row of views, inches; a panel's width follows the body's aspect.
+PANEL_HEIGHT = 5.0
 
 
 def field_range(datasets: Sequence[xr.Dataset], variable: str, scale: float = 1.0):
@@ -168,34 +178,97 @@ def draw_view(
         keep = ((z < low) | (z > high)) & (n @ eye > 0)  # the garment hides the band
         skin = Poly3DCollection(tri[keep], facecolors=BODY_COLOUR, linewidths=0, zorder=1)
         skin.set_gid("body")
+        skin.set_clip_on(False)  # a zoomed tall box reaches past the axes' square (_tallness)
+        skin.set_in_layout(False)  # and the layout keeps the panel, not the box, in the figure
         ax.add_collection3d(skin)
     garment.set_zorder(2)
+    garment.set_clip_on(False)
+    garment.set_in_layout(False)
     ax.add_collection3d(garment)
+    right = _right(azimuth)
     if girths:
         for name, row, index in _girth_rows(ds):
             line = points[row]
             facing = (line - line.mean(axis=0)) @ eye > 0
             seen = np.where(facing, line[:, 0], np.nan), np.where(facing, line[:, 1], np.nan)
-            ax.plot(seen[0], seen[1], line[:, 2], color="black", lw=1.0, zorder=3)
-            tip = line[np.argmax(line @ eye)]
+            ax.plot(seen[0], seen[1], line[:, 2], color="black", lw=1.0, zorder=3, clip_on=False)
+            tip = line[np.argmax(line @ right)]  # beside the body, on the screen's right
             value = _girth_value(ds, variable, scale, row, index)
             ax.text(
-                *(tip + 0.03 * eye + [0, 0, 0.012]),
+                *(tip + LABEL_GAP * right),
                 f"{name} {value:.3g} {unit}",
-                fontsize=7,
+                fontsize=LABEL_POINTS,
                 zorder=4,
-                ha="center",
-                va="bottom",
+                ha="left",
+                va="center",
                 bbox={"fc": "white", "alpha": 0.75, "lw": 0, "pad": 1},
-            )
-    span = np.ptp(points.reshape(-1, 3), axis=0).max() / 2 + 0.03
-    centre = (points.reshape(-1, 3).max(axis=0) + points.reshape(-1, 3).min(axis=0)) / 2
-    for setter, c in zip((ax.set_xlim, ax.set_ylim, ax.set_zlim), centre, strict=True):
-        setter(c - span, c + span)
-    ax.set_box_aspect((1, 1, 1))
+            ).set_in_layout(False)
+    cloud = points.reshape(-1, 3)
+    if body is not None:  # every view frames the same points
+        cloud = np.vstack([cloud, body[0][np.unique(body[1])]])
+    low_corner, high_corner = frame(cloud, azimuth, girths)
+    for setter, lo, hi in zip(
+        (ax.set_xlim, ax.set_ylim, ax.set_zlim), low_corner, high_corner, strict=True
+    ):
+        setter(lo, hi)
+    ax.set_box_aspect(tuple(high_corner - low_corner), zoom=ZOOM * _tallness(ax))
     ax.set_proj_type("ortho")
     ax.view_init(elev=ELEVATION, azim=azimuth)
     ax.set_axis_off()
+    ax.patch.set_visible(False)  # a neighbour's labels reach into this panel
+
+
+def _tallness(ax) -> float:
+    """How much taller than wide ``ax``'s panel is (1 for a wide one). A 3D axes draws in a
+    square of its panel's width; a tall box (a leg) is zoomed by this to fill the panel's
+    height instead (3D artists are not clipped to the square)."""
+    cell = ax.get_position(original=True)
+    width, height = ax.figure.get_size_inches()
+    return max(1.0, 0.9 * (cell.height * height) / (cell.width * width))
+
+
+def _right(azimuth: float) -> NDArray[np.float64]:
+    """(3,) the screen's right, horizontal, for a camera at ``azimuth`` (degrees)."""
+    a = np.radians(azimuth)
+    return np.array([-np.sin(a), np.cos(a), 0.0])
+
+
+def frame(
+    cloud: NDArray[np.float64], azimuth: float, labels: bool = True
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """The axes' limits ((3,) low and high corners, m) that frame the points ``cloud`` ((P,
+    3), m) seen from ``azimuth``: both horizontal axes span the wider horizontal extent (every
+    view of a figure at one scale), the vertical its own, with `FRAME_PAD` around; with
+    ``labels``, `LABEL_ROOM_INCHES` more on the screen's right for the girth labels (at the
+    scale a `PANEL_HEIGHT` tall panel draws the body's height at).
+    The box's aspect is these spans, so a leg fills a tall panel and a torso a square one."""
+    low, high = cloud.min(axis=0), cloud.max(axis=0)
+    centre = 0.5 * (low + high)
+    half = 0.5 * float(np.max(high[:2] - low[:2])) + FRAME_PAD
+    low_corner = np.array([centre[0] - half, centre[1] - half, low[2] - FRAME_PAD])
+    high_corner = np.array([centre[0] + half, centre[1] + half, high[2] + FRAME_PAD])
+    if labels:
+        room = LABEL_ROOM_INCHES / PANEL_HEIGHT * float(high[2] - low[2] + 2 * FRAME_PAD)
+        right = _right(azimuth)
+        for axis in (0, 1):
+            if right[axis] > 0.5:
+                high_corner[axis] += room
+            elif right[axis] < -0.5:
+                low_corner[axis] -= room
+    return low_corner, high_corner
+
+
+def panel_aspect(ds: xr.Dataset, body: tuple[NDArray, NDArray] | None, labels: bool) -> float:
+    """Width over height of one view's box (`frame`) of ``ds`` over ``body``: what a figure's
+    panels are sized to."""
+    cloud = garment_positions(ds).reshape(-1, 3)
+    if body is not None:
+        vertices, faces = body
+        cloud = np.vstack([cloud, vertices[np.unique(faces)]])
+    low, high = frame(cloud, VIEWS["front"], labels)
+    horizontal = float(np.max(high[:2] - low[:2]))
+    vertical = float(high[2] - low[2])
+    return horizontal / (vertical * np.cos(np.radians(ELEVATION)) + horizontal * 0.14)
 
 
 def body_band(ds: xr.Dataset) -> tuple[NDArray, NDArray] | None:
@@ -234,11 +307,12 @@ def body_figure(
     unit = label[label.index("[") + 1 : label.index("]")]
     low, high = value_range or field_range([ds], variable, scale)
     norm = colors.Normalize(low, high)
-    fig = plt.figure(figsize=(12.0, 5.6), layout="constrained")
+    width = float(np.clip(PANEL_HEIGHT * panel_aspect(ds, body, True), 1.6, 6.0))
+    fig = plt.figure(figsize=(3 * width + 1.4, PANEL_HEIGHT + 0.6), layout="constrained")
     axes = [fig.add_subplot(1, 3, k + 1, projection="3d") for k in range(3)]
     for ax, (view, azimuth) in zip(axes, VIEWS.items(), strict=True):
         draw_view(ax, ds, body, variable, scale, norm, azimuth, unit)
-        ax.set_title(view)
+        ax.set_title(view, y=1.0 + 0.5 * (_tallness(ax) - 1.0))  # above a zoomed box
     _colour_bar(fig, axes, norm, label, ds[variable].values * scale)
     status = "" if int(ds.attrs.get("converged", 1)) else " (NOT CONVERGED)"
     fig.suptitle(f"{ds.attrs.get('fabric_name', '')}: {label.split(' [')[0]} on the body{status}")

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import logging
 from pathlib import Path
 
@@ -9,7 +10,6 @@ import matplotlib
 
 from cloth.bodies import MeshBody
 from cloth.results.landmarks import along, girth_line
-from cloth.results.pressure import RAL_CLASSES
 
 matplotlib.use("Agg")
 
@@ -17,6 +17,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 import xarray as xr
 
+from cloth.case.judge import Judge
 from cloth.io import atomic_output
 from cloth.materials.curves import DIRECTIONS
 
@@ -177,6 +178,18 @@ def _status(ds: xr.Dataset) -> str:
     return "" if int(ds.attrs.get("converged", 1)) else " (NOT CONVERGED)"
 
 
+def class_bands(ds: xr.Dataset) -> list[tuple[str, float, float]]:
+    """The compression classes (name, low, high; mmHg, the finite ones) the case of result or
+    sweep ``ds`` judges its class point by, where ``ds``'s girth lines include that point (a
+    stocking's B); none elsewhere (a torso: the summary judges no class there, so the figures
+    draw no class bands)."""
+    block = json.loads(ds.attrs["case"]).get("judge") if "case" in ds.attrs else None
+    judge = Judge.from_block(block)
+    if judge.class_point not in [str(v) for v in ds["landmark"].values]:
+        return []
+    return [(name, lo, hi) for name, (lo, hi) in judge.classes.items() if np.isfinite(hi)]
+
+
 def _flat_map(ds, name, path, scale=1.0, label=None, vmin=None, vmax=None, levels=None):
     from matplotlib import colors  # noqa: F401
 
@@ -208,7 +221,8 @@ def plot_result(
     pressure_range: tuple[float, float] | None = None,
 ) -> list[Path]:
     """Every figure of a result: stress maps (the paper's Figure 4), the garment in 3D (its
-    Figure 3), pressure in mmHg with the RAL class bounds, landmark profiles, convergence,
+    Figure 3), pressure in mmHg (with the class bounds where the case judges a class), landmark
+    profiles, convergence,
     material curves. Fixed colour ranges (Pa, mmHg) make runs comparable."""
     folder = Path(folder)
     s_lo, s_hi = stress_range or (None, None)
@@ -217,7 +231,7 @@ def plot_result(
         _flat_map(ds, "stress_weft", folder / "stress_weft.png", vmin=s_lo, vmax=s_hi),
         _flat_map(ds, "stress_warp", folder / "stress_warp.png", vmin=s_lo, vmax=s_hi),
     ]
-    bounds = sorted({b for _, lo, hi in RAL_CLASSES for b in (lo, hi) if np.isfinite(b)})
+    bounds = sorted({b for _, lo, hi in class_bands(ds) for b in (lo, hi)}) or None
     paths.append(
         _flat_map(ds, "pressure_mmHg", folder / "pressure.png", vmin=p_lo, vmax=p_hi, levels=bounds)
     )
@@ -263,9 +277,9 @@ def plot_result(
             along(np.where(on, ds["pressure_mmHg"].values, 0.0), line),  # what the summary took
             label=f"{name} ({float(ds['landmark_height'][index]):.3f} m)",
         )
-    for name, lo, hi in RAL_CLASSES[:3]:
-        ax.axhspan(lo, hi, alpha=0.08, color="tab:red")
-        ax.text(358, (lo + hi) / 2, f"RAL {name}", ha="right", va="center", fontsize=7)
+    for name, lo, hi in class_bands(ds):
+        ax.axhspan(lo, hi, alpha=0.08, color="tab:red", gid="class-band")
+        ax.text(358, (lo + hi) / 2, f"class {name}", ha="right", va="center", fontsize=7)
     ax.set_xlabel("position around, from the centre back [degrees]")
     ax.set_ylabel("pressure [mmHg]")
     ax.set_title(f"pressure along the girth lines{_status(ds)}", fontsize=10)

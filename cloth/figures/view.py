@@ -60,6 +60,29 @@ def _plotly():
     return go
 
 
+#: The first camera's distance from the scene's centre, in units of its longest side (plotly's
+#: default eye, (1.25, 1.25, 1.25), frames a unit cube from 2.17), and its rise.
+EYE_DISTANCE, EYE_RISE = 1.7, 0.15
+
+
+def scene_frame(points: NDArray[np.float64]) -> dict:
+    """The scene's aspect and first camera that frame ``points`` ((P, 3), m) whole, whatever
+    their aspect: one scale on every axis (the box's sides in proportion to the data's ranges,
+    the longest 1), seen from the front (+y) at `EYE_DISTANCE` of the longest side. Plotly's
+    ``aspectmode: data`` scales the box so that a tall leg's is several units high, which its
+    default camera, 2 units away, crops at both ends."""
+    ranges = np.ptp(points, axis=0)
+    ratio = ranges / max(float(ranges.max()), 1e-12)
+    return {
+        "aspectmode": "manual",
+        "aspectratio": {"x": float(ratio[0]), "y": float(ratio[1]), "z": float(ratio[2])},
+        "camera": {
+            "eye": {"x": 0.0, "y": EYE_DISTANCE, "z": EYE_RISE},
+            "center": {"x": 0.0, "y": 0.0, "z": 0.0},
+        },
+    }
+
+
 def view_figure(ds: xr.Dataset, body: tuple[NDArray, NDArray] | None = None):
     """The plotly figure of a result ``ds``: ``body`` (vertices (V, 3) m, faces (F, 3)), the
     garment coloured by the first of `FIELDS`, a menu of the others, node hover."""
@@ -154,11 +177,10 @@ def view_figure(ds: xr.Dataset, body: tuple[NDArray, NDArray] | None = None):
             "text": f"{ds.attrs.get('fabric_name', 'garment')}: {n} x {m} = {m * n:,} nodes{status}"
         },
         scene={
-            "aspectmode": "data",
             "xaxis_title": "x [m]",
             "yaxis_title": "y [m]",
             "zaxis_title": "z [m]",
-            "camera": {"eye": {"x": 0.0, "y": 2.0, "z": 0.3}},
+            **scene_frame(np.vstack([xyz, *([body[0]] if body is not None else [])])),
         },
         updatemenus=[
             {

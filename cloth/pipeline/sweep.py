@@ -21,12 +21,13 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
+from cloth.case.judge import Judge
 from cloth.errors import InputError
-from cloth.figures.plots import plt, save_figure
+from cloth.figures.plots import class_bands, plt, save_figure
 from cloth.io import atomic_output, global_attrs, read_netcdf
 from cloth.pipeline.variants import COORDINATES, KEYS, Variant, entry_keys
 from cloth.results.landmarks import LANDMARK_FIELDS
-from cloth.results.pressure import MMHG, RAL_CLASSES
+from cloth.results.pressure import MMHG
 
 FIELDS = {name: (units, long_name) for name, (_, units, long_name) in LANDMARK_FIELDS.items()}
 #: Each value's stated discretisation error (`cloth.files.levels`), NaN where not estimated.
@@ -318,7 +319,8 @@ def confirm(
 
 
 def plot_design(ds: xr.Dataset, targets: list[dict], path: str | Path) -> Path:
-    """Landmark pressure against reduction per fabric and body, with the RAL class bands; a
+    """Landmark pressure against reduction per fabric and body, with the class bands in the
+    panel of the class point where the sweep's lines include it (`class_bands`); a
     sweep with variants draws each line at every key's first value and shades the spread that
     each varied key causes (`cloth.pipeline.variants`)."""
     landmarks = ds["landmark"].values.tolist()
@@ -330,11 +332,17 @@ def plot_design(ds: xr.Dataset, targets: list[dict], path: str | Path) -> Path:
         layout="constrained",
         squeeze=False,
     )
+    bands = class_bands(ds)
+    point = Judge.from_block(None).class_point
     for ax, landmark in zip(axes[0], landmarks, strict=True):
-        for name, lo, hi in RAL_CLASSES[:3]:
-            ax.axhspan(lo, hi, color="tab:red", alpha=0.08)
+        for name, lo, hi in bands if landmark == point else []:
+            ax.axhspan(lo, hi, color="tab:red", alpha=0.08, gid="class-band")
             ax.text(
-                ds["reduction"].values.min(), (lo + hi) / 2, f" RAL {name}", fontsize=7, va="center"
+                ds["reduction"].values.min(),
+                (lo + hi) / 2,
+                f" class {name}",
+                fontsize=7,
+                va="center",
             )
         percent = 100 * ds["reduction"].values
         variants = variant_dims(ds)
