@@ -62,6 +62,8 @@ LABEL_POINTS, LABEL_ROOM_INCHES = 7, 1.15
 ZOOM = 1.25
 #: Height of a figure's row of views, inches; a panel's width follows the body's aspect.
 PANEL_HEIGHT = 5.0
+#: Share of a tall panel's height its zoomed box may take (`_tallness`).
+TALL_FILL = 0.82
 
 
 def field_range(datasets: Sequence[xr.Dataset], variable: str, scale: float = 1.0):
@@ -218,13 +220,19 @@ def draw_view(
     ax.patch.set_visible(False)  # a neighbour's labels reach into this panel
 
 
-def _tallness(ax) -> float:
-    """How much taller than wide ``ax``'s panel is (1 for a wide one). A 3D axes draws in a
-    square of its panel's width; a tall box (a leg) is zoomed by this to fill the panel's
-    height instead (3D artists are not clipped to the square)."""
+def _cell_ratio(ax) -> float:
+    """Height over width of ``ax``'s panel (the figure's cell it was given)."""
     cell = ax.get_position(original=True)
     width, height = ax.figure.get_size_inches()
-    return max(1.0, 0.9 * (cell.height * height) / (cell.width * width))
+    return (cell.height * height) / (cell.width * width)
+
+
+def _tallness(ax) -> float:
+    """How much a tall panel's box is zoomed (1 for a wide panel). A 3D axes draws in a square
+    of its panel's width, centred; a tall box (a leg) is zoomed to fill `TALL_FILL` of the
+    panel's height instead (3D artists are not clipped to the square), the rest left for the
+    view's name above it."""
+    return max(1.0, TALL_FILL * _cell_ratio(ax))
 
 
 def _right(azimuth: float) -> NDArray[np.float64]:
@@ -312,7 +320,11 @@ def body_figure(
     axes = [fig.add_subplot(1, 3, k + 1, projection="3d") for k in range(3)]
     for ax, (view, azimuth) in zip(axes, VIEWS.items(), strict=True):
         draw_view(ax, ds, body, variable, scale, norm, azimuth, unit)
-        ax.set_title(view, y=1.0 + 0.5 * (_tallness(ax) - 1.0))  # above a zoomed box
+        if _tallness(ax) > 1.0:  # at the top of a tall panel, above its zoomed box (which
+            # the layout does not see: it keeps the panel in place)
+            ax.set_title(view, y=0.5 + 0.5 * _cell_ratio(ax), va="top").set_in_layout(False)
+        else:
+            ax.set_title(view)
     _colour_bar(fig, axes, norm, label, ds[variable].values * scale)
     status = "" if int(ds.attrs.get("converged", 1)) else " (NOT CONVERGED)"
     fig.suptitle(f"{ds.attrs.get('fabric_name', '')}: {label.split(' [')[0]} on the body{status}")
