@@ -15,6 +15,7 @@ from __future__ import annotations
 import csv
 import subprocess
 import sys
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -157,6 +158,55 @@ def test_the_confirmed_values_are_the_confirmation_file_s(tmp_path):
         assert row["designed_mmHg"] == pytest.approx(result.achieved[k] / MMHG, rel=1e-12)
         assert row["confirmed_error_mmHg"] == pytest.approx(0.25)
         assert row["met"] == 0  # 3 % of 12-20 mmHg is past the 0.01 mmHg tolerance
+
+
+def test_every_column_of_design_confirmed_is_its_own_number(tmp_path):
+    """Each row of design_confirmed.csv, column by column, from a design whose numbers are
+    exact in binary (targets 2048, 4096, 8192 Pa, tolerance 64 Pa), so that a line exactly one
+    tolerance off is met and one just past it is not; a confirmation without an error estimate
+    gives NaN errors."""
+    result = replace(
+        _cylinder_design(str(_soft_warp(tmp_path)), 0.0),
+        targets=np.array([2048.0, 4096.0, 8192.0]),
+        tolerance=64.0,
+    )
+    lines = list(result.lines)
+    offsets = np.array([64.0, -64.0 - 2.0**-30 * 4096.0, -32.0])  # met, missed, met
+    confirmed = xr.Dataset(
+        {
+            "pressure_mean": ("landmark", result.targets + offsets),
+            "landmark_height": ("landmark", [LINES[line] for line in lines]),
+        },
+        coords={"landmark": lines},
+    )
+    rows = confirmed_rows(result, confirmed)
+    knots = [f"reduction_{key}" for key in result.knots]
+    assert list(rows[0]) == [
+        "landmark",
+        "height_m",
+        "target_mmHg",
+        "designed_mmHg",
+        "confirmed_mmHg",
+        "confirmed_error_mmHg",
+        "tolerance_mmHg",
+        "met",
+        "uniform_reduction",
+        "uniform_mmHg",
+        *knots,
+        "equilibria",
+    ]
+    mmhg = 133.322387415  # Pa, by definition (13.5951 g/cm3 x 9.80665 m/s2 x 1 mm)
+    for k, row in enumerate(rows):
+        assert row["landmark"] == lines[k]
+        assert row["height_m"] == LINES[lines[k]]
+        assert row["target_mmHg"] == pytest.approx(result.targets[k] / mmhg, rel=1e-9)
+        assert row["tolerance_mmHg"] == pytest.approx(64.0 / mmhg, rel=1e-9)
+        assert np.isnan(row["confirmed_error_mmHg"])
+        assert row["uniform_reduction"] == result.uniform[0]
+        assert row["uniform_mmHg"] == pytest.approx(result.uniform[1][k] / mmhg, rel=1e-9)
+        assert [row[key] for key in knots] == list(result.values)
+        assert row["equilibria"] == result.solves + 1
+    assert [row["met"] for row in rows] == [1, 0, 1]
 
 
 def test_the_tolerance_given_on_the_line_is_the_design_s(tmp_path):

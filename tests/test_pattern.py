@@ -183,3 +183,77 @@ def test_pattern_cli_refuses_a_bad_format_and_writes_nothing(graded, tmp_path):
     )
     assert done.returncode == 2 and "--formats" in done.stderr
     assert len(done.stderr.strip().splitlines()) == 1 and not list(tmp_path.iterdir())
+
+
+def test_the_csv_and_svg_say_every_number_where_a_cutter_reads_it(graded, tmp_path):
+    """The CSV's header and its row numbers, reductions and cut; the SVG's page (the outline
+    with a 20 mm margin all round, centred), its girth line's label 2 mm right of the line's
+    left end and 2 mm above it; the XML's declaration."""
+    folder, ds = graded
+    csv_path, svg_path = write_pattern(
+        folder / "out" / "result.nc", tmp_path / "p.csv", "tube", formats=["csv", "svg"]
+    )
+    with csv_path.open() as handle:
+        header = next(csv.reader(handle))
+    assert header == [
+        "row",
+        "pattern_height_mm",
+        "cut_height_m",
+        "rest_circumference_mm",
+        "width_mm",
+        "reduction",
+        "cut",
+    ]
+    rows = _rows(csv_path)
+    assert [int(r["row"]) for r in rows] == list(range(len(rows)))
+    assert {r["cut"] for r in rows} == {"tube"}
+    np.testing.assert_allclose(
+        [float(r["reduction"]) for r in rows], ds["row_reduction"].values, atol=1e-6
+    )
+    np.testing.assert_allclose(
+        [float(r["cut_height_m"]) for r in rows], ds["cut_height"].values, atol=1e-6
+    )
+    text = svg_path.read_text()
+    assert text.startswith('<?xml version="1.0" encoding="UTF-8"?>')
+    root = ET.fromstring(text)
+    space = "{http://www.w3.org/2000/svg}"
+    w, h = (float(root.get(k).removesuffix("mm")) for k in ("width", "height"))
+    width = np.array([float(r["width_mm"]) for r in rows])
+    height = np.array([float(r["pattern_height_mm"]) for r in rows])
+    assert h == pytest.approx(height.max() + 40.0, abs=1e-3)
+    points = root.find(f"{space}polygon").get("points").split()
+    xy = np.array([[float(v) for v in p.split(",")] for p in points])
+    assert xy[:, 0].min() == pytest.approx(20.0, abs=1e-3)  # the widest row: margin to margin
+    assert xy[:, 0].max() == pytest.approx(w - 20.0, abs=1e-3)
+    assert xy[:, 1].min() == pytest.approx(20.0, abs=1e-3)  # the top row: 20 mm down
+    assert xy[:, 1].max() == pytest.approx(h - 20.0, abs=1e-3)
+    (line,) = root.findall(f"{space}line")
+    (label,) = root.findall(f"{space}text")
+    assert line.get("stroke") == "red" and label.text == "waist"
+    assert float(label.get("x")) == pytest.approx(float(line.get("x1")) + 2.0, abs=1e-3)
+    assert float(label.get("y")) == pytest.approx(float(line.get("y1")) - 2.0, abs=1e-3)
+    assert float(label.get("font-size")) == 8.0
+    assert width.max() == pytest.approx(w - 40.0, abs=1e-3)
+
+
+def test_a_line_at_the_garment_s_edge_is_drawn_and_a_bad_result_is_named(graded, tmp_path):
+    from cloth.files.pattern import pattern_of
+
+    _, ds = graded
+    z = ds["cut_height"].values
+    both = (
+        ds.drop_dims("landmark")
+        .assign_coords(landmark=["low", "high"])
+        .assign(landmark_height=("landmark", [float(z[0]), float(z[-1])]))
+    )
+    pattern = pattern_of(both, "tube")
+    assert [name for name, _ in pattern.lines] == ["low", "high"]
+    heights = 1e3 * ds["pattern_height"].values
+    assert [y for _, y in pattern.lines] == pytest.approx([heights[0], heights[-1]])
+    with pytest.raises(InputError, match="unknown cut 'kilt'") as caught:
+        pattern_of(ds, "kilt", "r.nc")
+    assert caught.value.field == "--cut" and "two-panel, tube" in str(caught.value)
+    with pytest.raises(InputError, match="no pattern_height") as caught:
+        pattern_of(ds.drop_vars("pattern_height"), "tube", "r.nc")
+    assert str(caught.value.source) == "r.nc"
+    assert pattern_of(ds.drop_vars("row_reduction"), "tube").reduction is None

@@ -411,3 +411,35 @@ def test_graduation_is_met_inside_its_limits_only(c_mmhg, met):
     assert c["share_of_class_point"] == c_mmhg / 30.0  # 18 / 30 is the float 0.6: ends exact
     assert c["graduation_met"] == met
     assert other["graduation_met"] == "" and b["compression_class"] == "II"
+
+
+def test_every_judging_column_of_every_row():
+    """The class on the class point's row only (blank on the others), the share of the class
+    point's pressure (NaN where that is 0; computed where it is just above 0), the limits of
+    each point with limits and blanks for a line without them."""
+    from cloth.case.judge import Judge
+    from cloth.results.judging import judged
+
+    judge = Judge.from_block({"graduation": {"C": [0.6, 0.8]}})
+    rows = [
+        {"landmark": "B", "pressure_mean_mmHg": 0.5},
+        {"landmark": "C", "pressure_mean_mmHg": 0.35},
+        {"landmark": "waist", "pressure_mean_mmHg": 0.1},
+    ]
+    b, c, waist = judged(rows, judge)
+    assert (b["compression_class"], c["compression_class"], waist["compression_class"]) == (
+        "-",
+        "",
+        "",
+    )
+    assert c["share_of_class_point"] == 0.35 / 0.5 and waist["share_of_class_point"] == 0.2
+    assert (c["graduation_low"], c["graduation_high"], c["graduation_met"]) == (0.6, 0.8, 1)
+    for row in (b, waist):
+        assert (row["graduation_low"], row["graduation_high"], row["graduation_met"]) == (
+            "",
+            "",
+            "",
+        )
+    assert "pressure_band" not in b  # the case defines no bands
+    zero = judged([{"landmark": "B", "pressure_mean_mmHg": 0.0}, rows[1]], judge)
+    assert np.isnan(zero[1]["share_of_class_point"])
