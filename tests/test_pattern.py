@@ -140,8 +140,25 @@ def test_pattern_files_agree_at_one_to_one_in_mm(graded, tmp_path, cut):
     np.testing.assert_allclose(left[:, 1], height, atol=0.01)
     (girth,) = doc.modelspace().query('LINE[layer=="GIRTH"]')
     z = ds["cut_height"].values
-    assert girth.dxf.start.y == pytest.approx(np.interp(0.25, z, 1e3 * ds["pattern_height"]))
+    y_line = np.interp(0.25, z, 1e3 * ds["pattern_height"])
+    assert girth.dxf.start.y == pytest.approx(y_line)
     assert [t.dxf.text for t in doc.modelspace().query("TEXT")] == ["waist"]
+    # the layers a CAD program sorts by, each in its colour; the outline closed; the girth line
+    # across the pattern's width there; its label 8 mm high, 2 mm in from its left end, 2 up
+    colours = {layer.dxf.name: layer.dxf.color for layer in doc.layers}
+    assert {k: colours.get(k) for k in ("OUTLINE", "GIRTH", "LABELS")} == {
+        "OUTLINE": 7,
+        "GIRTH": 1,
+        "LABELS": 3,
+    }
+    assert outline.closed and doc.dxfversion == "AC1024"  # R2010
+    half = 0.5 * np.interp(y_line, height, width)
+    assert (girth.dxf.start.x, girth.dxf.end.x) == pytest.approx((-half, half), abs=0.01)
+    (label,) = doc.modelspace().query('TEXT[layer=="LABELS"]')
+    assert label.dxf.height == 8.0
+    assert (label.dxf.insert.x, label.dxf.insert.y) == pytest.approx(
+        (-half + 2.0, y_line + 2.0), abs=0.01
+    )
 
     root = ET.parse(svg_path).getroot()
     assert root.tag.endswith("svg")
@@ -257,3 +274,13 @@ def test_a_line_at_the_garment_s_edge_is_drawn_and_a_bad_result_is_named(graded,
         pattern_of(ds.drop_vars("pattern_height"), "tube", "r.nc")
     assert str(caught.value.source) == "r.nc"
     assert pattern_of(ds.drop_vars("row_reduction"), "tube").reduction is None
+
+
+def test_write_pattern_refuses_an_unknown_format_naming_the_option(graded, tmp_path):
+    folder, _ = graded
+    with pytest.raises(InputError, match="unknown format 'pdf'; give some of csv, svg, dxf") as e:
+        write_pattern(folder / "out" / "result.nc", tmp_path / "p.csv", formats=["csv", "pdf"])
+    assert e.value.field == "--formats" and not list(tmp_path.iterdir())
+    written = write_pattern(folder / "out" / "result.nc", tmp_path / "p.csv", formats=["csv"])
+    assert written == [tmp_path / "p.csv"]
+    assert {r["cut"] for r in _rows(written[0])} == {"two-panel"}  # the default cut
