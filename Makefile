@@ -74,4 +74,4 @@ bench: $(STAMP)
 	$(BIN)/python benchmarks/bench_bodies.py
 
 clean:
-	rm -rf results .snakemake
+	rm -rf results results-* .snakemake

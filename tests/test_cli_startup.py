@@ -6,6 +6,7 @@ checked exactly, which is what keeps the time."""
 from __future__ import annotations
 
 import json
+import resource
 import statistics
 import subprocess
 import sys
@@ -53,12 +54,25 @@ def test_a_verb_imports_its_stage_when_it_runs(tmp_path):
     assert "cloth.stages.design" not in loaded  # another verb's stage stays out
 
 
-def test_version_answers_within_the_limit():
-    seconds = []
+def _median_seconds(argv: list[str]) -> tuple[float, float]:
+    """The median of 3 runs of ``python -m cloth ARGV`` in a new process: (wall, CPU) s."""
+    walls, cpus = [], []
     for _ in range(3):
+        before = resource.getrusage(resource.RUSAGE_CHILDREN)
         start = time.perf_counter()
-        subprocess.run(
-            [sys.executable, "-m", "cloth", "--version"], check=True, capture_output=True
-        )
-        seconds.append(time.perf_counter() - start)
-    assert statistics.median(seconds) < STARTUP_LIMIT, seconds
+        subprocess.run([sys.executable, "-m", "cloth", *argv], check=True, capture_output=True)
+        walls.append(time.perf_counter() - start)
+        after = resource.getrusage(resource.RUSAGE_CHILDREN)
+        cpus.append(after.ru_utime - before.ru_utime + after.ru_stime - before.ru_stime)
+    return statistics.median(walls), statistics.median(cpus)
+
+
+@pytest.mark.parametrize("argv", [["--version"], ["--help"]], ids=["version", "help"])
+def test_version_and_help_answer_within_the_limit(argv):
+    """The median of 3 under `STARTUP_LIMIT` (measured 0.11-0.12 s; 2.2 s before). The test
+    suite runs on both cores beside it: where the wall time is over, the child's own CPU time
+    tells load from work, and one more round of 3 is taken."""
+    wall, cpu = _median_seconds(argv)
+    if wall >= STARTUP_LIMIT and cpu < STARTUP_LIMIT:
+        wall, cpu = _median_seconds(argv)
+    assert wall < STARTUP_LIMIT, (wall, cpu)
