@@ -270,6 +270,9 @@ def test_a_line_at_the_garment_s_edge_is_drawn_and_a_bad_result_is_named(graded,
     with pytest.raises(InputError, match="unknown cut 'kilt'") as caught:
         pattern_of(ds, "kilt", "r.nc")
     assert caught.value.field == "--cut" and "two-panel, tube" in str(caught.value)
+    assert str(caught.value.source) == "r.nc"
+    old = pattern_of(ds.drop_vars("cut_height"), "tube")  # a result from before cut heights
+    np.testing.assert_allclose(old.cut_height, ds["z"].values.mean(axis=1))
     with pytest.raises(InputError, match="no pattern_height") as caught:
         pattern_of(ds.drop_vars("pattern_height"), "tube", "r.nc")
     assert str(caught.value.source) == "r.nc"
@@ -284,3 +287,21 @@ def test_write_pattern_refuses_an_unknown_format_naming_the_option(graded, tmp_p
     written = write_pattern(folder / "out" / "result.nc", tmp_path / "p.csv", formats=["csv"])
     assert written == [tmp_path / "p.csv"]
     assert {r["cut"] for r in _rows(written[0])} == {"two-panel"}  # the default cut
+
+
+def test_dxf_without_ezdxf_is_refused_before_any_file(graded, tmp_path, monkeypatch):
+    import cloth.files.pattern as pattern
+
+    folder, ds = graded
+    monkeypatch.setattr(pattern, "_ezdxf", lambda: None)
+    with pytest.raises(InputError, match=r"DXF needs ezdxf: pip install 'cloth\[pattern\]'") as e:
+        pattern.write_pattern(folder / "out" / "result.nc", tmp_path / "p.csv")
+    assert e.value.field == "--formats" and not list(tmp_path.iterdir())
+    assert pattern.write_pattern(
+        folder / "out" / "result.nc", tmp_path / "p.csv", formats=["svg"]
+    ) == [tmp_path / "p.svg"]
+    stale = tmp_path / "stale.nc"
+    ds.drop_vars("pattern_height").to_netcdf(stale)
+    with pytest.raises(InputError, match="no pattern_height") as e:
+        pattern.write_pattern(stale, tmp_path / "q.csv", formats=["csv"])
+    assert str(e.value.source) == str(stale)
