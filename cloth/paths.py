@@ -96,7 +96,7 @@ def output_path(
                 source,
                 field,
             )
-    if not folder and path.name in ("", ".", ".."):
+    if not folder and path.name in ("", ".."):  # pathlib drops a last "."
         raise InputError(f"{shown(path)} names a folder; give a file name", source, field)
     if folder and path.exists() and not path.is_dir():
         raise InputError(f"{shown(path)} is a file; give a folder for the outputs", source, field)

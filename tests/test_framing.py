@@ -19,7 +19,7 @@ import trimesh
 import xarray as xr
 from mpl_toolkits.mplot3d import proj3d
 
-from cloth.figures.onbody import body_band, body_figure, garment_positions
+from cloth.figures.onbody import body_band, body_figure, framed_points, garment_positions
 from cloth.figures.plots import class_bands
 from cloth.figures.view import EYE_DISTANCE, scene_frame
 from tests.conftest import load_result
@@ -94,9 +94,7 @@ def test_the_body_fills_its_panel_and_the_labels_sit_beside_it(results, name):
     fig = body_figure(ds, "body_pressure", body=body)
     fig.canvas.draw()
     fig.canvas.draw()  # constrained layout settles on the second draw, as savefig's
-    points = garment_positions(ds).reshape(-1, 3)
-    if body is not None:
-        points = np.vstack([points, body[0][np.unique(body[1])]])
+    points = framed_points(ds, body)
     views = [ax for ax in fig.axes if ax.name == "3d"]
     assert len(views) == 3
     for ax in views:

@@ -25,12 +25,15 @@ PATH_KEYS: tuple[tuple[str, ...], ...] = (
 )
 
 
+def bundled_material(value: str) -> bool:
+    """Whether a case's ``material`` names a table in ``data/materials`` (no suffix: e.g.
+    ``powernet``) rather than a file (`cloth.files.material.load_fabric`)."""
+    return not Path(value).suffix
+
+
 def is_path(keys: tuple[str, ...], value: str) -> bool:
-    """Whether ``value`` at ``keys`` names a file: always, except a material given by the
-    name of a bundled table (no suffix, no folder: `cloth.files.material.load_fabric`)."""
-    if keys == ("material",):
-        return bool(Path(value).suffix)
-    return True
+    """Whether ``value`` at ``keys`` names a file: always, except a bundled material's name."""
+    return not (keys == ("material",) and bundled_material(value))
 
 
 def relocated(data: dict[str, Any], source: str | Path, target: str | Path) -> dict[str, Any]:
@@ -55,4 +58,4 @@ def relocated(data: dict[str, Any], source: str | Path, target: str | Path) -> d
     return out
 
 
-__all__ = ["PATH_KEYS", "is_path", "relocated"]
+__all__ = ["PATH_KEYS", "bundled_material", "is_path", "relocated"]

@@ -52,8 +52,7 @@ BODY_MARGIN = 0.08
 CMAP = "viridis"
 #: The body's colour (RGBA): light grey, translucent.
 BODY_COLOUR = (0.78, 0.78, 0.8, 0.35)
-#: Space around the body in a view, m; room for the girth labels on the screen's right, as a
-#: share of the body's height; gap between the body and a label, m.
+#: Space around the body in a view, m; gap between the body and a girth label, m.
 FRAME_PAD, LABEL_GAP = 0.01, 0.01
 #: The girth labels' size, points, and the room they take beside the body, inches (the longest,
 #: "underbust 99.9 mmHg", is about 1.1 in at 7 points).
@@ -205,10 +204,7 @@ def draw_view(
                 va="center",
                 bbox={"fc": "white", "alpha": 0.75, "lw": 0, "pad": 1},
             ).set_in_layout(False)
-    cloud = points.reshape(-1, 3)
-    if body is not None:  # every view frames the same points
-        cloud = np.vstack([cloud, body[0][np.unique(body[1])]])
-    low_corner, high_corner = frame(cloud, azimuth, girths)
+    low_corner, high_corner = frame(framed_points(ds, body), azimuth, girths)
     for setter, lo, hi in zip(
         (ax.set_xlim, ax.set_ylim, ax.set_zlim), low_corner, high_corner, strict=True
     ):
@@ -266,17 +262,24 @@ def frame(
     return low_corner, high_corner
 
 
+def framed_points(ds: xr.Dataset, body: tuple[NDArray, NDArray] | None) -> NDArray[np.float64]:
+    """(P, 3) m: what every view of ``ds`` frames, the garment's nodes and the vertices of
+    ``body`` (vertices, faces; or None) that its faces use."""
+    points = garment_positions(ds).reshape(-1, 3)
+    if body is None:
+        return points
+    vertices, faces = body
+    return np.vstack([points, vertices[np.unique(faces)]])
+
+
 def panel_aspect(ds: xr.Dataset, body: tuple[NDArray, NDArray] | None, labels: bool) -> float:
-    """Width over height of one view's box (`frame`) of ``ds`` over ``body``: what a figure's
-    panels are sized to."""
-    cloud = garment_positions(ds).reshape(-1, 3)
-    if body is not None:
-        vertices, faces = body
-        cloud = np.vstack([cloud, vertices[np.unique(faces)]])
-    low, high = frame(cloud, VIEWS["front"], labels)
+    """Width over height of one view's box (`frame`) of ``ds`` over ``body`` as the camera at
+    `ELEVATION` sees it: what a figure's panels are sized to."""
+    low, high = frame(framed_points(ds, body), VIEWS["front"], labels)
     horizontal = float(np.max(high[:2] - low[:2]))
     vertical = float(high[2] - low[2])
-    return horizontal / (vertical * np.cos(np.radians(ELEVATION)) + horizontal * 0.14)
+    tilt = np.radians(ELEVATION)
+    return horizontal / (vertical * np.cos(tilt) + horizontal * np.sin(tilt))
 
 
 def body_band(ds: xr.Dataset) -> tuple[NDArray, NDArray] | None:

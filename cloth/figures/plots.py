@@ -178,13 +178,20 @@ def _status(ds: xr.Dataset) -> str:
     return "" if int(ds.attrs.get("converged", 1)) else " (NOT CONVERGED)"
 
 
+def judge_of(ds: xr.Dataset) -> Judge:
+    """The judge of the case of result ``ds`` (its ``judge`` block); the default one for a
+    file without a case (a sweep)."""
+    return Judge.from_block(
+        json.loads(ds.attrs["case"]).get("judge") if "case" in ds.attrs else None
+    )
+
+
 def class_bands(ds: xr.Dataset) -> list[tuple[str, float, float]]:
     """The compression classes (name, low, high; mmHg, the finite ones) the case of result or
-    sweep ``ds`` judges its class point by, where ``ds``'s girth lines include that point (a
-    stocking's B); none elsewhere (a torso: the summary judges no class there, so the figures
-    draw no class bands)."""
-    block = json.loads(ds.attrs["case"]).get("judge") if "case" in ds.attrs else None
-    judge = Judge.from_block(block)
+    sweep ``ds`` judges its class point by (`judge_of`), where ``ds``'s girth lines include
+    that point (a stocking's B); none elsewhere (a torso: the summary judges no class there, so
+    the figures draw no class bands)."""
+    judge = judge_of(ds)
     if judge.class_point not in [str(v) for v in ds["landmark"].values]:
         return []
     return [(name, lo, hi) for name, (lo, hi) in judge.classes.items() if np.isfinite(hi)]

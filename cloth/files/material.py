@@ -30,6 +30,7 @@ from pathlib import Path
 
 import xarray as xr
 
+from cloth.case.locations import bundled_material
 from cloth.errors import InputError
 from cloth.io import global_attrs, read_netcdf, resolve, to_attr, variable
 from cloth.materials.curves import DIRECTIONS, Fabric, StressStrainCurve
@@ -165,7 +166,7 @@ def load_fabric(spec: str, base_dir: str | Path = ".") -> Fabric:
     """The fabric named by a case's ``material``: a lab table (CSV), a material.nc, or the name
     of a table in ``data/materials`` (e.g. ``powernet``)."""
     path = resolve(str(path_form(spec, None, "material")), base_dir)
-    if not path.suffix:
+    if bundled_material(spec):
         path = DATA_MATERIALS / f"{spec}.csv"
         if not path.is_file():
             names = sorted(p.stem for p in DATA_MATERIALS.glob("*.csv"))

@@ -74,8 +74,3 @@ class Layout:
 
 #: The default config's layout.
 DEFAULT = Layout()
-material_file = DEFAULT.material_file
-body_file = DEFAULT.body_file
-case_file = DEFAULT.case_file
-sweep_file = DEFAULT.sweep_file
-design_file = DEFAULT.design_file

@@ -21,9 +21,8 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from cloth.case.judge import Judge
 from cloth.errors import InputError
-from cloth.figures.plots import class_bands, plt, save_figure
+from cloth.figures.plots import class_bands, judge_of, plt, save_figure
 from cloth.io import atomic_output, global_attrs, read_netcdf
 from cloth.pipeline.variants import COORDINATES, KEYS, Variant, entry_keys
 from cloth.results.landmarks import LANDMARK_FIELDS
@@ -333,7 +332,7 @@ def plot_design(ds: xr.Dataset, targets: list[dict], path: str | Path) -> Path:
         squeeze=False,
     )
     bands = class_bands(ds)
-    point = Judge.from_block(None).class_point
+    point = judge_of(ds).class_point
     for ax, landmark in zip(axes[0], landmarks, strict=True):
         for name, lo, hi in bands if landmark == point else []:
             ax.axhspan(lo, hi, color="tab:red", alpha=0.08, gid="class-band")
