@@ -16,7 +16,17 @@ import pytest
 
 #: Most seconds ``cloth --version`` may take (the median of 3 runs of a new interpreter).
 STARTUP_LIMIT = 0.3
-HEAVY = ("numpy", "scipy", "xarray", "trimesh", "matplotlib", "cloth.stages", "cloth.io")
+HEAVY = (
+    "numpy",
+    "scipy",
+    "xarray",
+    "trimesh",
+    "matplotlib",
+    "cholespy",
+    "cloth.stages",
+    "cloth.io",
+    "cloth.solvers",
+)
 
 
 def _modules_loaded(argv: list[str]) -> set[str]:

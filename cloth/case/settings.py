@@ -9,7 +9,7 @@ import numpy as np
 from cloth.errors import InputError
 
 METHODS = ("explicit", "newton", "explicit+newton")
-LINEAR_SOLVERS = ("auto", "superlu", "cholmod", "pardiso", "amg")
+LINEAR_SOLVERS = ("auto", "superlu", "cholespy", "cholmod", "pardiso", "amg")
 
 
 @dataclass(frozen=True)
@@ -23,8 +23,10 @@ class Settings:
         Stop when the relative residual (`cloth.solvers.common`) is at most this.
     max_iterations : int
         Iteration limit (of each phase for explicit+newton).
-    linear_solver : {'auto', 'superlu', 'cholmod', 'pardiso', 'amg'}
-        Newton's sparse solver; auto picks the fastest installed.
+    linear_solver : {'auto', 'superlu', 'cholespy', 'cholmod', 'pardiso', 'amg'}
+        Newton's sparse solver; auto takes cholespy (sparse Cholesky) where the case's Newton
+        matrix is positive definite by construction (the tension field, no skin model), else
+        pardiso where installed, else superlu (`cloth.solvers.linear.choose`).
     warm_start : int
         Explicit iterations before Newton in explicit+newton.
     log_every : int
@@ -37,9 +39,9 @@ class Settings:
     coarsest : int
         With continuation: coarsen until at most this many nodes.
     reuse : bool
-        Keep the factor (SuperLU or CHOLMOD) for the next Newton systems, solved by GMRES
-        preconditioned with it (`cloth.solvers.linear.Reuse`); refactorise when GMRES needs
-        too many iterations.
+        Keep the factor for the next Newton systems, solved by GMRES preconditioned with it
+        (conjugate gradients on cholespy's Cholesky factor; `cloth.solvers.linear.Reuse`);
+        refactorise when the Krylov solve needs too many iterations.
     leave_saddles : bool
         Where Newton converges to a saddle, move along its unstable modes and converge again
         (`cloth.solvers.saddle`); off by default.

@@ -222,8 +222,9 @@ def build_parser() -> argparse.ArgumentParser:
         command.add_argument("--max-iterations", type=int, help="iteration limit")
         command.add_argument(
             "--linear-solver",
-            choices=["auto", "superlu", "cholmod", "pardiso", "amg"],
-            help="Newton's sparse solver (default auto)",
+            choices=["auto", "superlu", "cholespy", "cholmod", "pardiso", "amg"],
+            help="Newton's sparse solver (default auto: cholespy where the matrix is positive "
+            "definite, docs/solvers.md)",
         )
         command.add_argument("--log-every", type=int, help="log a line every N iterations")
         command.add_argument(

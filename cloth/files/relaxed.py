@@ -7,11 +7,13 @@
 1 newton), ``turning_force`` (N: the force the turning gauge carries along its turn, what a
 skin's friction would carry; `cloth.solvers.problem.turning_gauge`). Global attributes:
 ``solver_method``, ``solver_converged`` (0/1), ``solver_iterations``, ``solver_tolerance``,
-``solver_residual``, ``solver_linear_solver``, ``solver_seconds``, ``solver_turning_node`` (the
+``solver_residual``, ``solver_linear_solver`` (the backend the run used: ``auto`` resolved,
+`cloth.solvers.linear.choose`), ``solver_seconds``, ``solver_turning_node`` (the
 gauge node's index, -1 for none), ``solver_factorisations`` (linear systems factorised by the
-run, coarse levels included), ``solver_continuation`` (0/1) and ``solver_coarsest`` (its
-coarsest level's node limit), ``solver_reuse`` (0/1: factorisations kept across Newton
-steps), and ``solver_peak_memory_mib`` (the process's peak resident
+run, coarse levels included), ``solver_lu_fallbacks`` (of those, the systems cholespy found
+not positive definite and SuperLU factorised), ``solver_continuation`` (0/1) and
+``solver_coarsest`` (its coarsest level's node limit), ``solver_reuse`` (0/1: factorisations
+kept across Newton steps), and ``solver_peak_memory_mib`` (the process's peak resident
 memory at its end, MiB); ``solver_unstable_modes`` where the run counted them from its last
 factor (`cloth.solvers.saddle.kept_factor`: the aggregate stage then factorises nothing);
 with tissue or friction ``solver_lags`` (solves with the skin models' lagged quantities,
@@ -94,6 +96,7 @@ def relaxed_dataset(
             "solver_seconds": float(seconds),
             "solver_turning_node": -1 if gauge is None else int(gauge),
             "solver_factorisations": int(factorisations),
+            "solver_lu_fallbacks": int(run.lu_fallbacks),
             "solver_continuation": int(settings.continuation),
             "solver_coarsest": int(settings.coarsest),
             "solver_reuse": int(settings.reuse),

@@ -96,6 +96,13 @@ class Grid:
             i = np.mod(i, self.n)
         return np.asarray(j) * self.n + i
 
+    @property
+    def convex(self) -> bool:
+        """Whether the network's energy is convex in the node positions: every family present
+        carries no compression (`StressStrainCurve.tension_only`), so its stiffness is positive
+        semi-definite at every state (`cloth.solvers.linear.SPD` backends then apply)."""
+        return all(curve.tension_only for _, curve in self.segments())
+
     def segments(self) -> list[tuple[slice, StressStrainCurve]]:
         """(slice, curve) for every family present, in spring order."""
         return [

@@ -155,6 +155,13 @@ class StressStrainCurve:
         return int(self.knot_strain.size)
 
     @property
+    def tension_only(self) -> bool:
+        """Whether a spring of this curve carries no compression (compression modulus 0): its
+        energy is then convex and non-decreasing in its length (the stress never falls), hence
+        convex in its ends' positions, and its Hessian positive semi-definite everywhere."""
+        return self.compression_modulus == 0.0
+
+    @property
     def slopes(self) -> NDArray[np.float64]:
         """(K-1,) float, Pa: slope of each segment."""
         return self._slope

@@ -1,10 +1,17 @@
-"""GMRES right-preconditioned by a kept factor: the Krylov half of factorisation reuse
+"""Krylov solves preconditioned by a kept factor: the Krylov half of factorisation reuse
 (`cloth.solvers.linear.Reuse`), with the limits that decide when a factor no longer serves.
 
-Right preconditioning, A M y = b, x = M y: GMRES minimises the true residual, the one the
-inexact-Newton forcing term bounds (left-preconditioned, it minimised |M r|, which went below
-rtol with |r| still at 0.1-0.7 where the contact set had moved). GMRES rather than CG or MINRES:
-the Newton matrix may be indefinite, and the factor is another matrix's.
+* `gmres_on`: GMRES right-preconditioned by an LU factor, for a Newton matrix that may be
+  indefinite. Right preconditioning, A M y = b, x = M y: GMRES minimises the true residual, the
+  one the inexact-Newton forcing term bounds (left-preconditioned, it minimised |M r|, which went
+  below rtol with |r| still at 0.1-0.7 where the contact set had moved).
+* `cg_on`: conjugate gradients preconditioned by a Cholesky factor (`cloth.solvers.cholesky`),
+  for a positive-definite matrix and preconditioner (the tension field): one matrix product and
+  one solve per iteration, no basis kept (GMRES keeps up to `KRYLOV_LIMIT` vectors and
+  orthogonalises against them). Its residual r = b - A x is updated, not minimised; it is the
+  true residual to rounding, and is what the limits below read. A direction of non-positive
+  curvature p^T A p <= 0 (the contact curvature term made this matrix indefinite) ends it: the
+  caller factorises afresh.
 """
 
 from __future__ import annotations
@@ -81,3 +88,38 @@ def gmres_on(
         return None, count[0]
     x = factor.solve(y)
     return (x if np.all(np.isfinite(x)) else None), count[0]
+
+
+def cg_on(
+    matrix: sp.csr_matrix, factor, rhs: NDArray[np.float64], rtol: float
+) -> tuple[NDArray[np.float64] | None, int]:
+    """``matrix^-1 rhs`` by conjugate gradients preconditioned by ``factor`` (``solve``; both
+    positive definite), to relative residual ``rtol`` within `KRYLOV_LIMIT` iterations, or None
+    where it does not get there (or would not: `_hopeless`, or a direction of non-positive
+    curvature); and the iterations it took."""
+    norm = float(np.linalg.norm(rhs))
+    if norm == 0.0:
+        return np.zeros_like(rhs, dtype=np.float64), 0
+    x = np.zeros_like(rhs, dtype=np.float64)
+    r = np.array(rhs, dtype=np.float64)
+    z = factor.solve(r)
+    p = z.copy()
+    rz = float(r @ z)
+    with np.errstate(all="ignore"):
+        for iteration in range(1, KRYLOV_LIMIT + 1):
+            q = matrix @ p
+            curvature = float(p @ q)
+            if not (np.isfinite(curvature) and curvature > 0.0 and rz > 0.0):
+                return None, iteration
+            alpha = rz / curvature
+            x += alpha * p
+            r -= alpha * q
+            residual = float(np.linalg.norm(r)) / norm
+            if residual <= rtol:
+                return (x if np.all(np.isfinite(x)) else None), iteration
+            if iteration >= KRYLOV_CHECK and _hopeless(residual, iteration, rtol):
+                return None, iteration
+            z = factor.solve(r)
+            rz, previous = float(r @ z), rz
+            p = z + (rz / previous) * p
+    return None, KRYLOV_LIMIT

@@ -1,23 +1,31 @@
-"""Sparse linear solvers for Newton's step, chosen by name; `auto` picks the fastest installed.
+"""Sparse linear solvers for Newton's step, chosen by name; `auto` picks by what the case is.
 
 * ``superlu`` (scipy, always there): LU in nested-dissection order (`cloth.solvers.ordering`),
   no pivoting and symmetric mode; faster than scipy's defaults on these symmetric systems
   (DESIGN.md 10; MMD(A^T + A) ~2x, nested dissection another 2.4x at 100k nodes).
-* ``cholmod`` (scikit-sparse, optional; needs SuiteSparse): sparse Cholesky, its symbolic
-  analysis kept per pattern.
+* ``cholespy`` (a dependency; `cloth.solvers.cholesky`): sparse Cholesky of the Newton matrix
+  where it is positive definite, and with ``reuse`` conjugate gradients on the kept factor; a
+  system that is not positive definite (the contact curvature term far from equilibrium) is
+  factorised by SuperLU instead (`lu_fallbacks` counts those).
+* ``cholmod`` (scikit-sparse, optional; needs SuiteSparse): sparse Cholesky of the
+  PSD-projected matrix, its symbolic analysis kept per pattern, as a preconditioner for GMRES
+  on the exact one.
 * ``pardiso`` (pypardiso, optional; x86-64, ~940 MB of MKL): LU of the exact matrix, its
   symbolic analysis kept per pattern (`Reuse._pardiso`).
 * ``amg`` (pyamg, optional): conjugate gradients preconditioned by smoothed-aggregation AMG.
 
-``auto`` prefers pardiso, then superlu: both take the exact Hessian, which is indefinite where
-the contact curvature term outweighs the fabric. cholmod and amg only on request: Cholesky and
-CG need the PSD-projected Hessian, and a step whose matrix is still indefinite falls back to
-superlu; with cholmod as ``auto``, the torso-mesh cases lost their quadratic convergence
-(measured: 5e-9 after 8e-6) and logged a fallback every few steps; amg's setup also costs
-seconds on small grids. The tests run every installed backend against superlu; superlu and amg
-always (amg is in the test extra), pardiso where the ``pardiso`` extra is installed (checked
-with pypardiso 0.4.7, MKL 2026.2), cholmod where the ``cholmod`` extra is (scikit-sparse 0.4.16
-against Debian's SuiteSparse 5.12; 0.5 does not build against it).
+``auto`` takes cholespy where the case's Newton matrix is positive definite by construction
+(`positive_definite`: a convex spring energy, every curve tension-only, and no skin model), and
+otherwise prefers pardiso, then superlu: both take the exact Hessian, which is indefinite where
+compressed springs soften the fabric or the contact curvature term outweighs it. cholmod and
+amg only on request: Cholesky and CG need the PSD-projected Hessian, and a step whose matrix is
+still indefinite falls back to superlu; with cholmod as ``auto`` (before the tension field
+was the default), the torso-mesh cases lost their quadratic convergence (measured: 5e-9 after
+8e-6) and logged a fallback every few steps; amg's setup also costs seconds on small grids. The
+tests run every installed backend against superlu; superlu, cholespy and amg always (amg is in
+the test extra), pardiso where the ``pardiso`` extra is installed (checked with pypardiso
+0.4.7, MKL 2026.2), cholmod where the ``cholmod`` extra is (scikit-sparse 0.4.16 against
+Debian's SuiteSparse 5.12; 0.5 does not build against it).
 """
 
 from __future__ import annotations
@@ -33,7 +41,8 @@ import scipy.sparse as sp
 from numpy.typing import NDArray
 
 from cloth.errors import InputError
-from cloth.solvers.krylov import KRYLOV_RTOL, gmres_on
+from cloth.solvers.cholesky import CholeskyFactor, NotPositiveDefinite, cholesky_factor
+from cloth.solvers.krylov import KRYLOV_RTOL, cg_on, gmres_on
 from cloth.solvers.ordering import reordering_for
 
 log = logging.getLogger(__name__)
@@ -43,16 +52,29 @@ log = logging.getLogger(__name__)
 #: never assembles it).
 Factorise = sp.csr_matrix | Callable[[], sp.csr_matrix]
 
-PACKAGES = {"cholmod": "sksparse", "pardiso": "pypardiso", "amg": "pyamg"}
+PACKAGES = {"cholespy": "cholespy", "cholmod": "sksparse", "pardiso": "pypardiso", "amg": "pyamg"}
 #: The module that loads each backend's native libraries (and its BLAS).
-BACKEND_MODULES = {"cholmod": "sksparse.cholmod", "pardiso": "pypardiso", "amg": "pyamg"}
+BACKEND_MODULES = {
+    "cholespy": "cholespy",
+    "cholmod": "sksparse.cholmod",
+    "pardiso": "pypardiso",
+    "amg": "pyamg",
+}
 #: What ``auto`` takes, the first installed: backends that take the exact, indefinite Hessian.
 AUTO = ("pardiso", "superlu")
-#: Backends that solve symmetric indefinite systems (Newton then uses the exact Hessian).
-INDEFINITE = ("superlu", "pardiso")
-INSTALL = {"cholmod": "scikit-sparse", "pardiso": "pypardiso", "amg": "pyamg"}
+#: What ``auto`` takes first where the Newton matrix is positive definite by construction.
+SPD = ("cholespy",)
+#: Backends that solve symmetric indefinite systems (Newton then uses the exact Hessian):
+#: cholespy through its LU fallback.
+INDEFINITE = ("superlu", "pardiso", "cholespy")
+INSTALL = {
+    "cholespy": "cholespy",
+    "cholmod": "scikit-sparse",
+    "pardiso": "pypardiso",
+    "amg": "pyamg",
+}
 #: Backends whose factor `Reuse` keeps.
-REUSABLE = ("superlu", "cholmod", "pardiso")
+REUSABLE = ("superlu", "cholespy", "cholmod", "pardiso")
 #: Backends that keep their symbolic analysis (the fill-reducing ordering and the factor's
 #: structure) for the next matrix of the same pattern, and factorise only the numbers: always,
 #: with or without ``reuse`` (the Newton matrix's pattern is the grid's).
@@ -81,10 +103,12 @@ def blas_threads(limit: int | None, name: str) -> contextlib.AbstractContextMana
     return threadpool_limits(limits=limit, user_api="blas")
 
 
-def choose(name: str) -> str:
-    """The solver that ``name`` means here; an error when it is not installed."""
+def choose(name: str, positive_definite: bool = False) -> str:
+    """The solver that ``name`` means here, for a case whose Newton matrix is
+    ``positive_definite`` by construction (`positive_definite`) or not; an error when it is not
+    installed."""
     if name == "auto":
-        return next(s for s in AUTO if available(s))
+        return next(s for s in (SPD + AUTO if positive_definite else AUTO) if available(s))
     if not available(name):
         raise InputError(
             f"linear solver {name!r} is not installed; pip install {INSTALL[name]} or use "
@@ -101,14 +125,15 @@ PRECONDITIONER_SHIFT = 1e-8
 
 class Reuse:
     """A factorisation kept for the next Newton systems (``solver: {reuse: true}``; SuperLU,
-    CHOLMOD or Pardiso, ``backend``).
+    cholespy, CHOLMOD or Pardiso, ``backend``).
 
     A system of the same size is solved by GMRES preconditioned by the kept factor
-    (`cloth.solvers.krylov.gmres_on`); when GMRES needs more than its `KRYLOV_LIMIT` iterations to
-    reach its tolerance (or would, at its rate so far), the matrix is factorised afresh and
-    kept. A factor costs 40-60 solves at 100k nodes (issue 12), so a Newton step that reuses
-    one costs a few solves instead of a factorisation.
-    ``krylov`` lists the GMRES iterations of every solve (0 for a direct solve with a fresh
+    (`cloth.solvers.krylov.gmres_on`), or by conjugate gradients where the factor is cholespy's
+    Cholesky factor (`cloth.solvers.krylov.cg_on`); when the Krylov solve needs more than its
+    `KRYLOV_LIMIT` iterations to reach its tolerance (or would, at its rate so far), the matrix
+    is factorised afresh and kept. A factor costs 40-60 solves at 100k nodes (issue 12), so a
+    Newton step that reuses one costs a few solves instead of a factorisation.
+    ``krylov`` lists the Krylov iterations of every solve (0 for a direct solve with a fresh
     factor of the matrix itself), ``abandoned`` those of the attempts given up. With ``gmres``
     False every system is factorised (CHOLMOD and Pardiso still keep their symbolic analysis:
     the Newton matrix's pattern is the grid's, so only the numbers are factorised again)."""
@@ -159,10 +184,12 @@ class Reuse:
             self.factor = None
             self.factor = lu_factor(matrix)
         self.krylov.append(0)
-        return self.factor.solve(rhs)
+        return _direct(self.factor, rhs)
 
     def _fresh(self, matrix: sp.csr_matrix):
         """The backend's factor of ``matrix`` (counted)."""
+        if self.backend == "cholespy":
+            return spd_factor(matrix)
         if self.backend == "cholmod":
             return self._cholmod(matrix)
         if self.backend == "pardiso":
@@ -180,9 +207,13 @@ class Reuse:
         return same
 
     def _krylov(self, matrix: sp.csr_matrix, rhs: NDArray[np.float64]) -> NDArray | None:
-        """`cloth.solvers.krylov.gmres_on` the kept factor, to ``rtol``: the answer (its
+        """`cloth.solvers.krylov.cg_on` a kept Cholesky factor (cholespy's), else
+        `cloth.solvers.krylov.gmres_on` the kept factor, to ``rtol``: the answer (its
         iterations in ``krylov``) or None (in ``abandoned``)."""
-        x, iterations = gmres_on(matrix, self.factor, rhs, self.rtol)
+        global _solves
+        krylov = cg_on if isinstance(self.factor, CholeskyFactor) else gmres_on
+        x, iterations = krylov(matrix, self.factor, rhs, self.rtol)
+        _solves += iterations
         (self.krylov if x is not None else self.abandoned).append(iterations)
         return x
 
@@ -284,8 +315,9 @@ def solve(
     """Solve ``matrix @ x = rhs`` (symmetric) with solver ``name`` (already `choose`n), or with
     ``reuse``'s kept factor (`Reuse`: SuperLU, CHOLMOD or Pardiso); ``factorise``: the
     positive definite matrix a `PRECONDITIONED` backend factorises instead, or its assembly
-    (`Reuse.solve`). ``keep`` (a list) gets SuperLU's unpivoted factor of ``matrix`` itself
-    where the solve made or used a fresh one (its inertia, `cloth.solvers.stability`).
+    (`Reuse.solve`). ``keep`` (a list) gets the factor of ``matrix`` itself where the solve
+    made or used a fresh one (its inertia, `cloth.solvers.stability`): SuperLU's unpivoted LU,
+    or a `CholeskyFactor` (cholespy's; no negative eigenvalue).
 
     An iterative or Cholesky backend can fail where the matrix is not positive definite (the
     curvature term of contact can make it indefinite far from equilibrium): that step is then
@@ -293,7 +325,7 @@ def solve(
     """
     if reuse is None and name in ANALYSED:  # one factorisation, through the same code
         reuse = Reuse(name, gmres=False)
-    if name == "superlu":
+    if name in ("superlu", "cholespy"):
         if reuse is None:
             return _solve(matrix, rhs, name, keep)
         x = reuse.solve(matrix, rhs)
@@ -310,12 +342,47 @@ def solve(
 
 
 _factorisations = 0
+_lu_fallbacks = 0
+_solves = 0
 
 
 def factorisations() -> int:
     """Linear systems factorised so far in this process (an AMG setup counts as one, a failed
     attempt too): `cloth.solvers.relax` records the difference over a run."""
     return _factorisations
+
+
+def solves() -> int:
+    """Newton systems' solves with a factor so far in this process: a direct solve counts one,
+    a Krylov solve on a kept factor its iterations (each one solve with the factor)."""
+    return _solves
+
+
+def _direct(factor, rhs: NDArray[np.float64]) -> NDArray[np.float64]:
+    """``factor.solve(rhs)``, counted in `solves`."""
+    global _solves
+    _solves += 1
+    return factor.solve(rhs)
+
+
+def lu_fallbacks() -> int:
+    """Systems so far in this process that cholespy found not positive definite and SuperLU
+    factorised instead (`spd_factor`): `cloth.solvers.relax` records the difference."""
+    return _lu_fallbacks
+
+
+def spd_factor(matrix: sp.csr_matrix) -> CholeskyFactor | object:
+    """cholespy's Cholesky factor of ``matrix`` (counted), or where it is not positive definite
+    SuperLU's LU of it (`lu_factor`; both attempts counted, and the fallback in
+    `lu_fallbacks`)."""
+    global _factorisations, _lu_fallbacks
+    _factorisations += 1
+    try:
+        return cholesky_factor(matrix)
+    except NotPositiveDefinite:
+        _lu_fallbacks += 1
+        log.debug("the Newton matrix is not positive definite; SuperLU factorises it")
+        return lu_factor(matrix)
 
 
 #: Unknowns from which SuperLU factorises in nested-dissection order; below, its own
@@ -372,11 +439,11 @@ def _solve(
     matrix: sp.csr_matrix, rhs: NDArray[np.float64], name: str, keep: list | None = None
 ) -> NDArray[np.float64]:
     global _factorisations
-    if name == "superlu":
-        factor = lu_factor(matrix)
+    if name in ("superlu", "cholespy"):
+        factor = lu_factor(matrix) if name == "superlu" else spd_factor(matrix)
         if keep is not None:
             keep.append(factor)
-        return factor.solve(rhs)
+        return _direct(factor, rhs)
     _factorisations += 1
     if name == "amg":  # cholmod and pardiso factorise through `Reuse` (their analysis kept)
         import pyamg

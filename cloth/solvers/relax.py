@@ -18,7 +18,7 @@ from cloth.solvers import lagged, saddle
 from cloth.solvers.common import Diverged, History
 from cloth.solvers.continuation import start_from_coarse
 from cloth.solvers.explicit import MAX_STEP, Explicit, shortest_rest
-from cloth.solvers.linear import blas_threads, choose, factorisations
+from cloth.solvers.linear import blas_threads, choose, factorisations, lu_fallbacks
 from cloth.solvers.newton import Newton
 from cloth.solvers.problem import Evaluation, Problem
 from cloth.solvers.stability import counts, factor_inertia
@@ -37,6 +37,7 @@ class Result:
     """Outcome of `relax`: final evaluation, history and solver facts (``factorisations``:
     linear systems factorised by the run; ``peak_memory``: the process's peak resident memory
     at its end, bytes; ``lags``: solves with the skin models' lagged quantities, 0 without them;
+    ``lu_fallbacks``: systems cholespy found not positive definite, factorised by SuperLU;
     ``friction``: with friction, the skin's friction force ``force`` ((N, 3), N) and each
     node's ``state`` ((N,) int8: 0 off the skin, 1 sticking, 2 slipping))."""
 
@@ -50,6 +51,7 @@ class Result:
     factorisations: int = 0
     peak_memory: float = 0.0
     lags: int = 0
+    lu_fallbacks: int = 0
     friction: dict[str, NDArray] = field(default_factory=dict)
     unstable_modes: int | None = None
     #: SuperLU's factor of the exact Newton matrix at (or one quadratic step before) the
@@ -118,7 +120,9 @@ def relax(
 
     Raises `Diverged` (with the last finite positions and the history) on NaN or energy growth.
     """
-    solver = choose(settings.linear_solver) if settings.method != "explicit" else "none"
+    solver = "none"
+    if settings.method != "explicit":
+        solver = choose(settings.linear_solver, positive_definite(state))
     with blas_threads(settings.blas_threads, solver):
         return _relax(state, body, settings, solver, callbacks)
 
@@ -127,7 +131,7 @@ def _relax(
     state: State, body: Body, settings: Settings, solver: str, callbacks: Sequence[Callback]
 ) -> Result:
     start = time.perf_counter()
-    factorised = factorisations()
+    factorised, fallbacks = factorisations(), lu_fallbacks()
     state.skin.check_solver(settings.method, settings.continuation)
     if settings.continuation:
         state = start_from_coarse(state, body, settings, relax)
@@ -228,9 +232,15 @@ def _relax(
             if turns
             else "",
         )
-    count = factorisations() - factorised
+    count, fallbacks = factorisations() - factorised, lu_fallbacks() - fallbacks
     peak = peak_memory()
-    log.info("%d linear factorisations; peak memory %.0f MiB", count, peak / 2**20)
+    log.info(
+        "%d linear factorisations (%s%s); peak memory %.0f MiB",
+        count,
+        solver,
+        f", {fallbacks} not positive definite, by superlu" if fallbacks else "",
+        peak / 2**20,
+    )
     modes = modes if converged else None
     if escapes:
         (log.info if modes == 0 else log.warning)(
@@ -250,10 +260,20 @@ def _relax(
         count,
         peak,
         lags,
+        fallbacks,
         _friction_fields(problem, ev),
         modes,
         kept if converged else None,
     )
+
+
+def positive_definite(state: State) -> bool:
+    """Whether Newton's matrix for ``state`` is positive definite by construction: the spring
+    energy is convex (`cloth.garment.grid.Grid.convex`: every curve tension-only) and no skin
+    model adds its terms (the tissue's curvature, friction's). The contact curvature term can
+    still make a step's matrix indefinite; the SPD backends then fall back to LU for it
+    (`cloth.solvers.linear.spd_factor`)."""
+    return state.grid.convex and state.skin.tissue is None and not state.skin.friction
 
 
 def _newton(phases: list) -> Newton | None:

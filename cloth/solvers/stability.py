@@ -48,8 +48,11 @@ def _unpivoted(factor):
 
 def factor_inertia(factor) -> int:
     """The negative eigenvalues of the symmetric matrix SuperLU's unpivoted ``factor``
-    (`cloth.solvers.linear.lu_factor`) is of: its negative pivots (module docstring). ValueError
-    where SuperLU pivoted rows after all."""
+    (`cloth.solvers.linear.lu_factor`) is of: its negative pivots (module docstring); none for a
+    Cholesky factor (`cloth.solvers.cholesky.CholeskyFactor`: its matrix is positive definite).
+    ValueError where SuperLU pivoted rows after all."""
+    if getattr(factor, "positive_definite", False):
+        return 0
     lu = _unpivoted(factor)
     if lu is None:
         raise ValueError(
@@ -61,11 +64,14 @@ def factor_inertia(factor) -> int:
 
 def negative_direction(factor, size: int) -> NDArray[np.float64] | None:
     """A move ((size,)) of negative curvature of the symmetric matrix A of SuperLU's unpivoted
-    ``factor``, from its negative pivots (None where it has none, or pivoted). With P A P^T =
+    ``factor``, from its negative pivots (None where it has none, is a Cholesky factor, or
+    pivoted). With P A P^T =
     L D L^T (the factor's U is D L^T), the vectors y_i with L^T y_i = e_i for the negative
     pivots d_i are A-conjugate with y_i^T (P A P^T) y_i = d_i, so their sum, mapped back by P,
     has curvature sum_i d_i < 0 and spans every unstable mode at once. One solve with the
     factor gives it: A^-1 P^T L (sum_i d_i e_i) = P^T sum_i y_i."""
+    if getattr(factor, "positive_definite", False):
+        return None
     lu = _unpivoted(factor)
     if lu is None:
         return None

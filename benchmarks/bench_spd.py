@@ -1,0 +1,176 @@
+"""Positive-definite solvers (issue 41): cholespy's Cholesky, with conjugate gradients on the
+kept factor, against SuperLU's LU on the same cases, side by side in one run.
+
+Cases (power net, 20 % reduction, 0.86-1.22 m, no lengthwise reduction, the tension field, the
+default path: continuation + reuse, to a relative residual of 1e-8):
+
+* ``torso``: the smooth parametric torso M;
+* ``scan``: a scan stand-in, torso M written as a 128 x 120 triangle mesh with 1 mm of seeded
+  noise along each vertex's normal (no real scan ships with cloth), read back as a ``mesh:``
+  body through its fitted smooth surface;
+
+on each of ``--grids``, with each of ``--solvers``. Each run is its own process, so its peak
+resident memory (VmHWM) is its own. Reported per run: relax time (s), fine-grid Newton
+iterations, factorisations (all levels; cholespy's attempts on a matrix that turned out not
+positive definite count too, and ``LU`` how many of them SuperLU then factorised), solves with
+a factor (a Krylov iteration on a kept factor counts one), the peak memory, and the largest
+difference of the positions from the first solver's (m). Run:
+
+    .venv/bin/python benchmarks/bench_spd.py [--cases torso scan] [--grids 448x224]
+        [--solvers superlu cholespy] [--repeat 1] [--section spd] [--no-write]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+from _table import markdown_table, replace_section
+
+HERE = Path(__file__).resolve().parent
+NOISE = 1e-3  # m, along each vertex normal of the scan stand-in
+
+
+def scan_mesh(folder: Path) -> Path:
+    """The scan stand-in's OBJ file in ``folder`` (module docstring)."""
+    import trimesh
+    from validation_scans import write_obj
+
+    from cloth.bodies.torso import chart_size, torso_mesh
+
+    vertices, faces = torso_mesh(chart_size("M"), 128, 120)
+    normals = trimesh.Trimesh(vertices, faces, process=False).vertex_normals
+    noise = np.random.default_rng(41).normal(0.0, NOISE, len(vertices))
+    return write_obj(folder / "scan.obj", vertices + noise[:, None] * normals, faces)
+
+
+def case(kind: str, grid: str, folder: Path) -> dict:
+    n, m = (int(v) for v in grid.split("x"))
+    body = {"torso": {"size": "M"}} if kind == "torso" else {"mesh": str(scan_mesh(folder))}
+    return {
+        "material": "powernet",
+        "body": body,
+        "garment": {"bottom": 0.86, "top": 1.22, "reduction": 0.20, "grid": [n, m]},
+    }
+
+
+def one(kind: str, grid: str, solver: str, positions: Path) -> dict:
+    """Relax one case in this process; its facts, and its positions saved to ``positions``."""
+    from dataclasses import replace
+
+    from cloth.files.body import body_from_config
+    from cloth.solvers import relax
+    from cloth.solvers.linear import solves
+    from cloth.solvers.relax import reset_peak_memory
+    from cloth.stages.case import initial_state
+
+    with tempfile.TemporaryDirectory() as tmp:  # the mesh and its fitted surface, kept
+        os.environ["CLOTH_CACHE_DIR"] = str(Path(tmp) / "cache")
+        state = initial_state(case(kind, grid, Path(tmp)))
+        body, _ = body_from_config(state.case.body.block)
+        settings = replace(state.case.solver, linear_solver=solver, progress=False, log_every=0)
+        reset_peak_memory()
+        solved = solves()
+        start = time.perf_counter()
+        result = relax(state, body, settings)
+        seconds = time.perf_counter() - start
+    np.save(positions, result.final.x)
+    return {
+        "seconds": seconds,
+        "iterations": result.iterations,
+        "converged": result.converged,
+        "residual": float(result.final.residual),
+        "factorisations": result.factorisations,
+        "lu": result.lu_fallbacks,
+        "solves": solves() - solved,
+        "peak_mib": result.peak_memory / 2**20,
+        "used": result.linear_solver,
+    }
+
+
+def run(kind: str, grid: str, solver: str, positions: Path) -> dict:
+    command = [sys.executable, __file__, "--one", kind, grid, solver, str(positions)]
+    done = subprocess.run(command, capture_output=True, text=True, cwd=HERE.parent, check=True)
+    return json.loads(done.stdout.strip().splitlines()[-1])
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--cases", nargs="+", default=["torso", "scan"])
+    parser.add_argument("--grids", nargs="+", default=["448x224"])
+    parser.add_argument("--solvers", nargs="+", default=["superlu", "cholespy"])
+    parser.add_argument("--repeat", type=int, default=1)
+    parser.add_argument("--section", default="spd")
+    parser.add_argument("--no-write", action="store_true", help="print, leave the docs alone")
+    parser.add_argument("--one", nargs=4, help=argparse.SUPPRESS)
+    args = parser.parse_args()
+    if args.one:
+        kind, grid, solver, positions = args.one
+        print(json.dumps(one(kind, grid, solver, Path(positions))))
+        return
+    rows = []
+    with tempfile.TemporaryDirectory() as tmp:
+        for kind in args.cases:
+            for grid in args.grids:
+                runs: dict[str, list[dict]] = {s: [] for s in args.solvers}
+                for _ in range(args.repeat):  # the solvers alternate
+                    for solver in args.solvers:
+                        runs[solver].append(run(kind, grid, solver, Path(tmp) / f"{solver}.npy"))
+                first = np.load(Path(tmp) / f"{args.solvers[0]}.npy")
+                base = statistics.median(r["seconds"] for r in runs[args.solvers[0]])
+                for solver in args.solvers:
+                    facts = runs[solver][-1]
+                    seconds = statistics.median(r["seconds"] for r in runs[solver])
+                    gap = float(np.abs(np.load(Path(tmp) / f"{solver}.npy") - first).max())
+                    rows.append(
+                        [
+                            kind,
+                            grid,
+                            f"{int(np.prod([int(v) for v in grid.split('x')])):,}",
+                            solver,
+                            f"{seconds:.1f}",
+                            f"{seconds / base:.2f}",
+                            str(facts["iterations"]) + ("" if facts["converged"] else " (not)"),
+                            f"{facts['factorisations']} ({facts['lu']} LU)",
+                            str(facts["solves"]),
+                            f"{facts['residual']:.1e}",
+                            f"{facts['peak_mib']:.0f}",
+                            f"{gap:.1e}",
+                        ]
+                    )
+                    print(rows[-1], flush=True)
+    header = [
+        "case",
+        "grid",
+        "nodes",
+        "solver",
+        "relax [s]",
+        "/ first",
+        "fine iterations",
+        "factorisations",
+        "solves",
+        "residual",
+        "peak memory [MiB]",
+        "max position gap [m]",
+    ]
+    body = (
+        f"{args.repeat} run(s) each, medians, solvers alternating, each run its own process, on "
+        f"{platform.machine()}, {os.cpu_count()} cores; continuation + reuse, to 1e-8.\n\n"
+        + markdown_table(header, rows)
+    )
+    print(body)
+    if not args.no_write:
+        replace_section(args.section, body)
+
+
+if __name__ == "__main__":
+    main()
