@@ -21,6 +21,7 @@ import numpy as np
 import yaml
 from _table import markdown_table, replace_section
 
+from cloth.pipeline.config import validate_case
 from cloth.pipeline.resources import measure_stage, stage_resources
 
 
@@ -59,7 +60,7 @@ def main() -> None:
             }
             for stage, command in stages.items():
                 seconds, peak = measure_stage(sys.executable, *command)
-                estimate = stage_resources(stage, case)
+                estimate = stage_resources(stage, validate_case(case, path))
                 rows.append(
                     [
                         stage,

@@ -196,3 +196,30 @@ def test_positive_definite_cases_are_those_of_a_convex_energy_without_skin_model
     assert not bending.grid.convex and not positive_definite(bending)
     rubbing = replace(state, skin=Skin(None, Contact(0.5, None)))
     assert not positive_definite(rubbing)
+
+
+def test_the_stability_count_takes_a_cholesky_factor_where_there_is_one(monkeypatch):
+    """At a tension-field equilibrium the exact constrained matrix is positive definite: the
+    count is 0 from a Cholesky factor, and the LU's pivots (the path where Cholesky fails)
+    say the same."""
+    from cloth.files.body import body_from_config
+    from cloth.solvers import Settings, relax, stability
+    from cloth.solvers.problem import Problem
+    from cloth.stages.case import initial_state
+
+    state = initial_state(_case("torso", Path("."), grid=(24, 12)))
+    body, _ = body_from_config(state.case.body.block)
+    result = relax(state, body, Settings(tolerance=1e-10, progress=False))
+    problem = Problem.of(state, body)
+    ev = problem.evaluate(result.final.x)
+    tried = []
+    real = stability.cholesky_factor
+    monkeypatch.setattr(stability, "cholesky_factor", lambda m: tried.append(1) or real(m))
+    assert stability.unstable_modes(problem, ev) == 0 and tried == [1]
+
+    def refuse(matrix):
+        raise NotPositiveDefinite("as if indefinite")
+
+    monkeypatch.setattr(stability, "cholesky_factor", refuse)
+    assert stability.unstable_modes(problem, ev) == 0  # from the LU's pivots
+    assert stability.negative_eigenvalues(stability.exact_matrix(problem, ev)) == 0

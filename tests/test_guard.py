@@ -150,3 +150,41 @@ def test_a_large_predeform_off_a_terminal_logs_its_progress(caplog):
         state = initial_state(case)
     assert state.x.shape == (n * m, 3)
     assert any(r.getMessage().startswith("predeform: row sections: 100 %") for r in caplog.records)
+
+
+def test_the_estimate_follows_the_backend_relax_will_take(tmp_path):
+    """auto on the tension field factorises by Cholesky, half an LU's memory: the guard
+    estimates relax and aggregate by the Cholesky model there, and by LU's for a case that is
+    not positive definite by construction (a compressible material, bending springs, friction,
+    a backend asked for). A 200k-node garment is estimated to fit in 8 GB either way (measured:
+    1,793 and 3,228 MiB, docs/performance.md)."""
+    from dataclasses import replace
+
+    from cloth.cli import main
+    from cloth.pipeline.config import validate_case
+    from cloth.pipeline.guard import takes_cholesky
+
+    case = {
+        "material": "powernet",
+        "body": {"torso": {"size": "M"}},
+        "garment": {"bottom": 0.86, "top": 1.22, "reduction": 0.2, "grid": [640, 320]},
+    }
+    assert takes_cholesky(validate_case(case), ROOT)
+    bending = {**case, "garment": {**case["garment"], "bend_modulus": 1e4}}
+    assert not takes_cholesky(validate_case(bending), ROOT)
+    assert not takes_cholesky(validate_case({**case, "contact": {"friction": 0.5}}), ROOT)
+    asked = {**case, "solver": {"linear_solver": "superlu"}}
+    assert not takes_cholesky(validate_case(asked), ROOT)
+    material = tmp_path / "compressible.nc"
+    csv = str(ROOT / "data/materials/powernet.csv")
+    assert (
+        main(["material", "ingest", csv, "--compression-ratio", "0.01", "-o", str(material)]) == 0
+    )
+    compressible = replace(validate_case(case), material=str(material))
+    assert not takes_cholesky(compressible, ROOT)
+    nodes = 640 * 320
+    for stage in ("relax", "aggregate"):
+        lu, cholesky = estimate(stage, nodes), estimate(stage, nodes, cholesky=True)
+        assert cholesky.memory_mb < 0.7 * lu.memory_mb
+        assert lu.memory_mb < 8000 * 1.048576
+    assert estimate("relax", nodes, cholesky=True).memory_mb > 1793 * 1.048576  # not below it

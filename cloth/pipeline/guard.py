@@ -3,7 +3,8 @@ anything is allocated, and refuse in one line a case that would not fit in the m
 memory (``--force``, or ``CLOTH_FORCE=1`` in the environment, runs it anyway).
 
 The estimate is `cloth.pipeline.resources`' per-stage model, measured as its own process (docs/
-performance.md, "What a job asks for"), without its cluster margin:
+performance.md, "What a job asks for"), without its cluster margin, for relax and aggregate
+the Cholesky backend's where relax will take it (`takes_cholesky`: about half an LU's memory):
 
     memory = base + per_node x N + BYTES_PER_FACE x F       (N garment nodes, F mesh faces)
     time   = reference x (N / reference_nodes)^p
@@ -25,7 +26,7 @@ from pathlib import Path
 from cloth.case import Case
 from cloth.errors import InputError
 from cloth.io import resolve
-from cloth.pipeline.resources import MODEL, REFERENCE_NODES
+from cloth.pipeline.resources import REFERENCE_NODES, stage_model
 
 log = logging.getLogger(__name__)
 
@@ -50,10 +51,11 @@ class Estimate:
     seconds: float
 
 
-def estimate(stage: str, nodes: int, faces: int = 0) -> Estimate:
+def estimate(stage: str, nodes: int, faces: int = 0, cholesky: bool = False) -> Estimate:
     """The estimate of ``stage`` (predeform, relax, aggregate, figures) for a garment of
-    ``nodes`` nodes on a body of ``faces`` mesh faces (0: a closed-form body or the torso)."""
-    base, per_node, seconds, power = MODEL[stage]
+    ``nodes`` nodes on a body of ``faces`` mesh faces (0: a closed-form body or the torso),
+    relaxed by Cholesky where ``cholesky`` (`takes_cholesky`), else by LU."""
+    base, per_node, seconds, power = stage_model(stage, cholesky)
     memory = base + per_node * nodes + BYTES_PER_FACE * faces / 1e6
     return Estimate(stage, nodes, faces, memory, seconds * (nodes / REFERENCE_NODES) ** power)
 
@@ -104,13 +106,41 @@ def case_counts(case: Case, base_dir: str | Path = ".") -> tuple[int, int]:
     return case.garment.nodes, faces
 
 
+def takes_cholesky(case: Case, base_dir: str | Path = ".") -> bool:
+    """Whether relax will factorise ``case``'s Newton systems by Cholesky: cholespy asked for,
+    or ``auto`` on a case positive definite by construction (`cloth.solvers.relax.
+    positive_definite`: every curve of its fabric tension-only, no shear or bending springs, no
+    tissue, no friction). False where its material cannot be read (predeform says why)."""
+    solver = case.solver
+    if solver.method == "explicit" or solver.linear_solver not in ("auto", "cholespy"):
+        return False
+    garment = case.garment
+    if garment.shear_modulus is not None or garment.bend_modulus is not None:
+        return False
+    if case.body.tissue is not None or case.contact.friction:
+        return False
+    from cloth.files.material import load_fabric
+
+    try:
+        fabric = load_fabric(case.material, base_dir)
+    except (InputError, OSError):
+        return False
+    curves = (fabric.weft, fabric.warp, getattr(fabric, "bias", None))
+    return all(curve.tension_only for curve in curves if curve is not None)
+
+
 def check_fits(
-    stages: tuple[str, ...], nodes: int, faces: int, source: str | Path, force: bool = False
+    stages: tuple[str, ...],
+    nodes: int,
+    faces: int,
+    source: str | Path,
+    force: bool = False,
+    cholesky: bool = False,
 ) -> list[Estimate]:
-    """Estimate ``stages`` and log them; raise `InputError` (one line: the estimate, the free
-    memory, the fixes) when the largest exceeds the free memory, unless ``force`` or the
-    environment's `FORCE_VARIABLE` is set."""
-    estimates = [estimate(stage, nodes, faces) for stage in stages]
+    """Estimate ``stages`` (relaxed by Cholesky where ``cholesky``) and log them; raise
+    `InputError` (one line: the estimate, the free memory, the fixes) when the largest exceeds
+    the free memory, unless ``force`` or the environment's `FORCE_VARIABLE` is set."""
+    estimates = [estimate(stage, nodes, faces, cholesky) for stage in stages]
     worst = max(estimates, key=lambda e: e.memory_mb)
     log.info(
         "estimated: %s nodes%s, peak memory %.0f MB (%s), time %s",

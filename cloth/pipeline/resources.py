@@ -38,11 +38,26 @@ MODEL = {
     "aggregate": (260.0, 0.019, 5.5, 1.3),
     "figures": (300.0, 0.004, 10.0, 1.0),
 }
+#: Relax and aggregate where relax factorises by Cholesky (cholespy, auto's choice for the
+#: tension field; `cloth.pipeline.guard.takes_cholesky`): the factor is half an LU's, and the
+#: stability count a Cholesky factor. Measured 2026-12-03 (bench_resources.py, auto on the
+#: torso): relax 272 / 477 / 844 MiB, aggregate 269 / 272 / 622 MiB at 4.6k / 18k / 74k nodes,
+#: relax 1,793 MiB at 205k (bench_spd.py); fitted 279 MiB + 7.81 MiB per 1000 nodes, in MB.
+CHOLESKY_MODEL = {
+    "relax": (293.0, 0.0082, 147.0, 1.3),
+    "aggregate": (168.0, 0.0067, 5.5, 1.3),
+}
 #: The grid the stage times were measured at (384 x 192 nodes).
 REFERENCE_NODES = 73_728
 #: What the body-fitting rule asks: the fit's sample cap x 5 float64 arrays, and its time.
 SURFACE_MB = 4000
 SURFACE_MINUTES = 30
+
+
+def stage_model(stage: str, cholesky: bool = False) -> tuple[float, float, float, float]:
+    """``stage``'s (base MB, MB per node, seconds at REFERENCE_NODES, exponent): MODEL's, or
+    where relax factorises by Cholesky (``cholesky``) CHOLESKY_MODEL's for relax and aggregate."""
+    return CHOLESKY_MODEL.get(stage, MODEL[stage]) if cholesky else MODEL[stage]
 
 
 @dataclass(frozen=True)
@@ -54,7 +69,9 @@ class Resources:
 
 
 def stage_resources(stage: str, case: Case) -> Resources:
-    """What one per-case ``stage`` of ``case`` (its garment's grid and its body) asks."""
+    """What one per-case ``stage`` of ``case`` (its garment's grid and its body) asks: the LU
+    model (MODEL) whatever the backend, so that a job is never killed for a material that turns
+    out compressible (the rules do not read materials)."""
     base, per_node, seconds, power = MODEL[stage]
     nodes = case.garment.nodes
     memory = base + per_node * nodes + (MESH_MB if case.body.kind == "mesh" else 0.0)

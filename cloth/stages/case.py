@@ -44,7 +44,9 @@ SOLVER_KEYS = ("method", "tolerance", "max_iterations", "linear_solver", "log_ev
 
 def check_fits(stages: tuple[str, ...], case: Case, base_dir: Path, source, force: bool):
     """Refuse (`InputError`) a case whose estimated memory in ``stages`` exceeds the free."""
-    guard.check_fits(stages, *guard.case_counts(case, base_dir), source, force)
+    solved = {"relax", "aggregate"} & set(stages)  # where the backend matters
+    cholesky = bool(solved) and guard.takes_cholesky(case, base_dir)
+    guard.check_fits(stages, *guard.case_counts(case, base_dir), source, force, cholesky)
 
 
 def _check_record_fits(stage: str, nodes: int, record: dict, source, force: bool) -> None:
