@@ -9,7 +9,9 @@ default path: continuation + reuse, to a relative residual of 1e-8):
   noise along each vertex's normal (no real scan ships with cloth), read back as a ``mesh:``
   body through its fitted smooth surface;
 
-on each of ``--grids``, with each of ``--solvers``. Each run is its own process, so its peak
+on each of ``--grids``, with each of ``--solvers`` (a backend name, with ``/fresh`` for no
+reuse: a fresh factorisation per Newton system; ``amg`` is pyamg's smoothed aggregation as the
+preconditioner of CG, set up afresh for each system). Each run is its own process, so its peak
 resident memory (VmHWM) is its own. Reported per run: relax time (s), fine-grid Newton
 iterations, factorisations (all levels; cholespy's attempts on a matrix that turned out not
 positive definite count too, and ``LU`` how many of them SuperLU then factorised), solves with
@@ -77,7 +79,14 @@ def one(kind: str, grid: str, solver: str, positions: Path) -> dict:
         os.environ["CLOTH_CACHE_DIR"] = str(Path(tmp) / "cache")
         state = initial_state(case(kind, grid, Path(tmp)))
         body, _ = body_from_config(state.case.body.block)
-        settings = replace(state.case.solver, linear_solver=solver, progress=False, log_every=0)
+        name, _, fresh = solver.partition("/")
+        settings = replace(
+            state.case.solver,
+            linear_solver=name,
+            reuse=state.case.solver.reuse and fresh != "fresh",
+            progress=False,
+            log_every=0,
+        )
         reset_peak_memory()
         solved = solves()
         start = time.perf_counter()
@@ -124,13 +133,15 @@ def main() -> None:
                 runs: dict[str, list[dict]] = {s: [] for s in args.solvers}
                 for _ in range(args.repeat):  # the solvers alternate
                     for solver in args.solvers:
-                        runs[solver].append(run(kind, grid, solver, Path(tmp) / f"{solver}.npy"))
-                first = np.load(Path(tmp) / f"{args.solvers[0]}.npy")
+                        saved = Path(tmp) / f"{solver.replace('/', '-')}.npy"
+                        runs[solver].append(run(kind, grid, solver, saved))
+                first = np.load(Path(tmp) / f"{args.solvers[0].replace('/', '-')}.npy")
                 base = statistics.median(r["seconds"] for r in runs[args.solvers[0]])
                 for solver in args.solvers:
                     facts = runs[solver][-1]
                     seconds = statistics.median(r["seconds"] for r in runs[solver])
-                    gap = float(np.abs(np.load(Path(tmp) / f"{solver}.npy") - first).max())
+                    saved = Path(tmp) / f"{solver.replace('/', '-')}.npy"
+                    gap = float(np.abs(np.load(saved) - first).max())
                     rows.append(
                         [
                             kind,

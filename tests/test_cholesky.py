@@ -4,6 +4,7 @@ where the case's Newton matrix is positive definite by construction."""
 
 from __future__ import annotations
 
+import importlib.util
 from pathlib import Path
 
 import numpy as np
@@ -18,6 +19,10 @@ from cloth.solvers.stability import factor_inertia, negative_direction
 from tests.conftest import load_result, write_obj
 from tests.test_linear import held, stiff_chain
 
+#: cholespy is a dependency wherever it has wheels (not Linux on arm64, where auto takes LU).
+pytestmark = pytest.mark.skipif(
+    importlib.util.find_spec("cholespy") is None, reason="cholespy is not installed"
+)
 ROOT = Path(__file__).resolve().parents[1]
 #: The acceptance: every reported quantity of the two backends' runs within this, relative.
 AGREE = 1e-9

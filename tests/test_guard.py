@@ -164,6 +164,8 @@ def test_the_estimate_follows_the_backend_relax_will_take(tmp_path):
     from cloth.pipeline.config import validate_case
     from cloth.pipeline.guard import takes_cholesky
 
+    pytest.importorskip("cholespy")
+
     case = {
         "material": "powernet",
         "body": {"torso": {"size": "M"}},

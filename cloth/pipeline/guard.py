@@ -17,6 +17,7 @@ smaller (a SLURM job's allocation).
 
 from __future__ import annotations
 
+import importlib.util
 import logging
 import os
 import re
@@ -110,16 +111,19 @@ def takes_cholesky(case: Case, base_dir: str | Path = ".") -> bool:
     """Whether relax will factorise ``case``'s Newton systems by Cholesky: cholespy asked for,
     or ``auto`` on a case positive definite by construction (`cloth.solvers.relax.
     positive_definite`: every curve of its fabric tension-only, no shear or bending springs, no
-    tissue, no friction). False where its material cannot be read (predeform says why)."""
+    tissue, no friction) and cholespy installed. False where its material cannot be read
+    (predeform says why)."""
     solver = case.solver
     if solver.method == "explicit" or solver.linear_solver not in ("auto", "cholespy"):
+        return False
+    if importlib.util.find_spec("cholespy") is None:  # no wheel here: auto takes LU
         return False
     garment = case.garment
     if garment.shear_modulus is not None or garment.bend_modulus is not None:
         return False
     if case.body.tissue is not None or case.contact.friction:
         return False
-    from cloth.files.material import load_fabric
+    from cloth.files.material import load_fabric  # xarray, only where relax is estimated
 
     try:
         fabric = load_fabric(case.material, base_dir)
