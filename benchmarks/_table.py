@@ -37,3 +37,10 @@ def replace_section(marker: str, body: str, path: Path = PERFORMANCE) -> None:
     if not pattern.search(text):
         raise SystemExit(f"{path}: markers {start} ... {end} not found")
     path.write_text(pattern.sub(lambda _: f"{start}\n{body}\n{end}", text))
+
+
+def publish(body: str, section: str, write: bool = True, path: Path = PERFORMANCE) -> None:
+    """Print a benchmark's ``body`` and, where ``write``, put it in ``section`` of ``path``."""
+    print(body)
+    if write:
+        replace_section(section, body, path)

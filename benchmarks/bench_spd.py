@@ -36,7 +36,7 @@ import time
 from pathlib import Path
 
 import numpy as np
-from _table import markdown_table, replace_section
+from _table import markdown_table, publish
 
 HERE = Path(__file__).resolve().parent
 NOISE = 1e-3  # m, along each vertex normal of the scan stand-in
@@ -173,14 +173,11 @@ def main() -> None:
         "peak memory [MiB]",
         "max position gap [m]",
     ]
-    body = (
+    note = (
         f"{args.repeat} run(s) each, medians, solvers alternating, each run its own process, on "
-        f"{platform.machine()}, {os.cpu_count()} cores; continuation + reuse, to 1e-8.\n\n"
-        + markdown_table(header, rows)
+        f"{platform.machine()}, {os.cpu_count()} cores; continuation + reuse, to 1e-8."
     )
-    print(body)
-    if not args.no_write:
-        replace_section(args.section, body)
+    publish(f"{note}\n\n{markdown_table(header, rows)}", args.section, not args.no_write)
 
 
 if __name__ == "__main__":
