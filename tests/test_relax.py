@@ -243,9 +243,10 @@ def test_newton_converges_on_a_faceted_torso():
     assert held.sum() > 0.5 * held.size and np.all(p[held] > 0)
 
 
-@pytest.mark.parametrize("backend", ["amg", "pardiso", "cholmod"])
+@pytest.mark.parametrize("backend", ["amg", "pardiso", "cholmod", "cholespy"])
 def test_every_installed_backend_reaches_superlus_equilibrium(backend):
-    pytest.importorskip({"amg": "pyamg", "pardiso": "pypardiso", "cholmod": "sksparse"}[backend])
+    packages = {"amg": "pyamg", "pardiso": "pypardiso", "cholmod": "sksparse"}
+    pytest.importorskip(packages.get(backend, backend))
     body = {"elliptic_cylinder": {"a": 0.15, "b": 0.10, "bottom": 0.0, "top": 0.5}}
     state = tube(body, 0.2, n=48, m=4)
     solid, _ = body_from_config(state.case.body.block)
