@@ -79,11 +79,12 @@ def test_adjoint_equals_central_differences(body, edges):
     spring sits at zero strain, on the tension field's kink, where the derivative is one-sided
     and central differences average the two sides (measured 3e-5 there). The cylinder and cone
     run the default path (continuation and reuse: the adjoint
-    factorises once); the torso plain Newton, whose last SuperLU factor relax keeps, so the
-    adjoint factorises nothing (CHOLMOD and pardiso keep none, and it factorises once)."""
+    factorises once); the torso plain Newton, whose last factor of the exact matrix relax keeps
+    (SuperLU's LU, or on the tension field cholespy's Cholesky factor), so the adjoint
+    factorises nothing (CHOLMOD and pardiso keep none, and it factorises once)."""
     state, shape, settings, result = _equilibrium(body, edges)
     heights = landmark_heights(state)
-    if body == "torso" and result.linear_solver == "superlu":  # plain Newton
+    if body == "torso" and result.linear_solver in ("superlu", "cholespy"):  # plain Newton
         assert result.factor is not None  # Newton kept its last factor: nothing is factorised
     before = factorisations()
     sens = sensitivities(state, shape, result.final, heights, result.factor)
