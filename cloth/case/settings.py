@@ -24,9 +24,10 @@ class Settings:
     max_iterations : int
         Iteration limit (of each phase for explicit+newton).
     linear_solver : {'auto', 'superlu', 'cholespy', 'cholmod', 'pardiso', 'amg'}
-        Newton's sparse solver; auto takes cholespy (sparse Cholesky) where the case's Newton
-        matrix is positive definite by construction (the tension field, no skin model), else
-        pardiso where installed, else superlu (`cloth.solvers.linear.choose`).
+        Newton's sparse solver; auto takes cholmod where installed, else cholespy (sparse
+        Cholesky), where the case's Newton matrix is positive definite by construction (the
+        tension field, no skin model), else pardiso where installed, else superlu
+        (`cloth.solvers.linear.choose`).
     warm_start : int
         Explicit iterations before Newton in explicit+newton.
     log_every : int

@@ -108,15 +108,16 @@ def case_counts(case: Case, base_dir: str | Path = ".") -> tuple[int, int]:
 
 
 def takes_cholesky(case: Case, base_dir: str | Path = ".") -> bool:
-    """Whether relax will factorise ``case``'s Newton systems by Cholesky: cholespy asked for,
-    or ``auto`` on a case positive definite by construction (`cloth.solvers.relax.
+    """Whether relax will factorise ``case``'s Newton systems by Cholesky: cholespy or cholmod
+    asked for, or ``auto`` on a case positive definite by construction (`cloth.solvers.relax.
     positive_definite`: every curve of its fabric tension-only, no shear or bending springs, no
-    tissue, no friction) and cholespy installed. False where its material cannot be read
+    tissue, no friction) and cholmod or cholespy installed. False where its material cannot be read
     (predeform says why)."""
     solver = case.solver
-    if solver.method == "explicit" or solver.linear_solver not in ("auto", "cholespy"):
+    if solver.method == "explicit" or solver.linear_solver not in ("auto", "cholespy", "cholmod"):
         return False
-    if importlib.util.find_spec("cholespy") is None:  # no wheel here: auto takes LU
+    packages = ("sksparse", "cholespy")  # cholmod's and cholespy's; none: auto takes LU
+    if not any(importlib.util.find_spec(package) for package in packages):
         return False
     garment = case.garment
     if garment.shear_modulus is not None or garment.bend_modulus is not None:
