@@ -146,11 +146,16 @@ class Skin:
     def friction(self) -> bool:
         return float(self.contact.friction) != 0.0
 
+    @property
+    def present(self) -> bool:
+        """Whether any skin model is under the garment (a tissue layer, friction)."""
+        return self.tissue is not None or self.friction
+
     def check_solver(self, method: str, continuation: bool) -> None:
         """Tissue and friction are solved by Newton only, and friction never from a coarse
         grid's answer (it depends on the path: the relaxation from the wrap); else
         `InputError`."""
-        if (self.tissue is not None or self.friction) and method != "newton":
+        if self.present and method != "newton":
             raise InputError(
                 f"tissue and friction are solved by method newton only, got {method}; "
                 "set solver.method: newton",

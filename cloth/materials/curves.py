@@ -263,3 +263,9 @@ class Fabric:
     @property
     def directions(self) -> tuple[str, ...]:
         return tuple(d for d in DIRECTIONS if getattr(self, d) is not None)
+
+    @property
+    def tension_only(self) -> bool:
+        """Whether every curve of the fabric carries no compression
+        (`StressStrainCurve.tension_only`)."""
+        return all(self.curve(d).tension_only for d in self.directions)

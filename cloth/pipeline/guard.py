@@ -17,7 +17,6 @@ smaller (a SLURM job's allocation).
 
 from __future__ import annotations
 
-import importlib.util
 import logging
 import os
 import re
@@ -28,6 +27,7 @@ from cloth.case import Case
 from cloth.errors import InputError
 from cloth.io import resolve
 from cloth.pipeline.resources import REFERENCE_NODES, stage_model
+from cloth.solvers.linear import SPD, choose
 
 log = logging.getLogger(__name__)
 
@@ -108,30 +108,29 @@ def case_counts(case: Case, base_dir: str | Path = ".") -> tuple[int, int]:
 
 
 def takes_cholesky(case: Case, base_dir: str | Path = ".") -> bool:
-    """Whether relax will factorise ``case``'s Newton systems by Cholesky: cholespy or cholmod
-    asked for, or ``auto`` on a case positive definite by construction (`cloth.solvers.relax.
-    positive_definite`: every curve of its fabric tension-only, no shear or bending springs, no
-    tissue, no friction) and cholmod or cholespy installed. False where its material cannot be read
-    (predeform says why)."""
+    """Whether relax will factorise ``case``'s Newton systems by Cholesky: the backend
+    `cloth.solvers.linear.choose` takes for it is one of `cloth.solvers.linear.SPD`, with the
+    case positive definite by construction as `cloth.solvers.relax.positive_definite` has it
+    (read here from the case: every curve of its fabric tension-only, no shear or bending
+    springs, no skin model). False where its material cannot be read, or its backend is not
+    installed (predeform and relax say why)."""
     solver = case.solver
-    if solver.method == "explicit" or solver.linear_solver not in ("auto", "cholespy", "cholmod"):
-        return False
-    packages = ("sksparse", "cholespy")  # cholmod's and cholespy's; none: auto takes LU
-    if not any(importlib.util.find_spec(package) for package in packages):
+    if solver.method == "explicit":
         return False
     garment = case.garment
-    if garment.shear_modulus is not None or garment.bend_modulus is not None:
-        return False
-    if case.body.tissue is not None or case.contact.friction:
-        return False
-    from cloth.files.material import load_fabric  # xarray, only where relax is estimated
+    springs = garment.shear_modulus is None and garment.bend_modulus is None
+    convex = springs and not case.skin.present
+    if convex:
+        from cloth.files.material import load_fabric  # xarray, only where relax is estimated
 
+        try:
+            convex = load_fabric(case.material, base_dir).tension_only
+        except (InputError, OSError):
+            return False
     try:
-        fabric = load_fabric(case.material, base_dir)
-    except (InputError, OSError):
+        return choose(solver.linear_solver, convex) in SPD
+    except InputError:
         return False
-    curves = (fabric.weft, fabric.warp, getattr(fabric, "bias", None))
-    return all(curve.tension_only for curve in curves if curve is not None)
 
 
 def check_fits(

@@ -36,8 +36,6 @@ class CholeskyFactor:
     ``solve(rhs)`` (rhs (size,) or (size, k)). Its inertia is known: no negative eigenvalue
     (`cloth.solvers.stability.factor_inertia`)."""
 
-    positive_definite = True
-
     def __init__(self, solver, size: int) -> None:
         self.solver = solver
         self.size = size

@@ -79,6 +79,9 @@ INSTALL = {
     "pardiso": "pypardiso",
     "amg": "pyamg",
 }
+#: Backends that factorise each system themselves, with no analysis kept: ``solve`` without
+#: `Reuse` goes through `_solve`, and ``keep`` gets their factor.
+DIRECT = ("superlu", "cholespy")
 #: Backends whose factor `Reuse` keeps.
 REUSABLE = ("superlu", "cholespy", "cholmod", "pardiso")
 #: Backends that keep their symbolic analysis (the fill-reducing ordering and the factor's
@@ -111,8 +114,8 @@ def blas_threads(limit: int | None, name: str) -> contextlib.AbstractContextMana
 
 def choose(name: str, positive_definite: bool = False) -> str:
     """The solver that ``name`` means here, for a case whose Newton matrix is
-    ``positive_definite`` by construction (`positive_definite`) or not; an error when it is not
-    installed."""
+    ``positive_definite`` by construction (`cloth.solvers.relax.positive_definite`) or not; an
+    error when it is not installed."""
     if name == "auto":
         return next(s for s in (SPD + AUTO if positive_definite else AUTO) if available(s))
     if not available(name):
@@ -331,7 +334,7 @@ def solve(
     """
     if reuse is None and name in ANALYSED:  # one factorisation, through the same code
         reuse = Reuse(name, gmres=False)
-    if name in ("superlu", "cholespy"):
+    if name in DIRECT:
         if reuse is None:
             return _solve(matrix, rhs, name, keep)
         x = reuse.solve(matrix, rhs)
@@ -445,7 +448,7 @@ def _solve(
     matrix: sp.csr_matrix, rhs: NDArray[np.float64], name: str, keep: list | None = None
 ) -> NDArray[np.float64]:
     global _factorisations
-    if name in ("superlu", "cholespy"):
+    if name in DIRECT:
         factor = lu_factor(matrix) if name == "superlu" else spd_factor(matrix)
         if keep is not None:
             keep.append(factor)

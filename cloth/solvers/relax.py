@@ -273,7 +273,7 @@ def positive_definite(state: State) -> bool:
     model adds its terms (the tissue's curvature, friction's). The contact curvature term can
     still make a step's matrix indefinite; the SPD backends then fall back to LU for it
     (`cloth.solvers.linear.spd_factor`)."""
-    return state.grid.convex and state.skin.tissue is None and not state.skin.friction
+    return state.grid.convex and not state.skin.present
 
 
 def _newton(phases: list) -> Newton | None:

@@ -25,8 +25,8 @@ from numpy.typing import NDArray
 
 from cloth.bodies import MeshBody
 from cloth.solvers.activeset import held_nodes
-from cloth.solvers.cholesky import NotPositiveDefinite, cholesky_factor
-from cloth.solvers.linear import PermutedLU, lu_factor
+from cloth.solvers.cholesky import CholeskyFactor
+from cloth.solvers.linear import PermutedLU, lu_factor, spd_factor
 from cloth.solvers.newton import newton_matrix, stiffness_at
 from cloth.solvers.problem import Evaluation, Problem
 
@@ -52,7 +52,7 @@ def factor_inertia(factor) -> int:
     (`cloth.solvers.linear.lu_factor`) is of: its negative pivots (module docstring); none for a
     Cholesky factor (`cloth.solvers.cholesky.CholeskyFactor`: its matrix is positive definite).
     ValueError where SuperLU pivoted rows after all."""
-    if getattr(factor, "positive_definite", False):
+    if isinstance(factor, CholeskyFactor):
         return 0
     lu = _unpivoted(factor)
     if lu is None:
@@ -71,7 +71,7 @@ def negative_direction(factor, size: int) -> NDArray[np.float64] | None:
     pivots d_i are A-conjugate with y_i^T (P A P^T) y_i = d_i, so their sum, mapped back by P,
     has curvature sum_i d_i < 0 and spans every unstable mode at once. One solve with the
     factor gives it: A^-1 P^T L (sum_i d_i e_i) = P^T sum_i y_i."""
-    if getattr(factor, "positive_definite", False):
+    if isinstance(factor, CholeskyFactor):
         return None
     lu = _unpivoted(factor)
     if lu is None:
@@ -99,11 +99,12 @@ def unstable_modes(problem: Problem, ev: Evaluation) -> int:
     """The unstable modes of the garment at ``ev`` (an equilibrium, or any state): the negative
     eigenvalues of the exact Newton matrix on the moves its constraints and the body's
     contact allow (module docstring); 0 at a stable equilibrium. With the tension field
-    (`cloth.garment.grid.Grid.convex`) a Cholesky factorisation is tried first: where it
-    succeeds the matrix is positive definite, 0 (half an LU's memory, at 100k nodes); where it
-    does not, the LU counts. Smooth bodies (closed-form,
-    the torso, the smooth surfaces of meshes) and no skin model: ValueError for faceted contact
-    (``surface: mesh``, whose constraints are face planes) or a tissue layer or friction."""
+    (`cloth.garment.grid.Grid.convex`) a Cholesky factorisation is tried first
+    (`cloth.solvers.linear.spd_factor`): where it succeeds the matrix is positive definite, 0
+    (half an LU's memory, at 100k nodes); where it does not, the LU it falls back to counts.
+    Smooth bodies (closed-form, the torso, the smooth surfaces of meshes) and no skin model:
+    ValueError for faceted contact (``surface: mesh``, whose constraints are face planes) or a
+    tissue layer or friction."""
     if not counts(problem):
         raise ValueError(
             "unstable_modes takes a smooth body without tissue or friction (faceted contact and "
@@ -111,11 +112,7 @@ def unstable_modes(problem: Problem, ev: Evaluation) -> int:
         )
     matrix = exact_matrix(problem, ev)
     if problem.grid.convex:  # the tension field: a Cholesky factor, where there is one, says 0
-        try:
-            cholesky_factor(matrix)
-            return 0
-        except NotPositiveDefinite:
-            pass
+        return factor_inertia(spd_factor(matrix))
     return negative_eigenvalues(matrix)
 
 
