@@ -103,7 +103,7 @@ def test_numpy_and_igl_backends_agree():
     np.testing.assert_allclose(a[1], b[1], atol=1e-12)
 
 
-@pytest.mark.parametrize("size", ["S", "M"])
+@pytest.mark.parametrize("size", ["S", "M", "L"])
 def test_torso_matches_chart_and_is_watertight(size):
     chart = chart_size(size)
     vertices, faces = torso_mesh(chart)
