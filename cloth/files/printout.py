@@ -1,0 +1,243 @@
+"""A piece printed at 1:1 (issue 42): a PDF a sample room prints on A4 or letter and checks.
+
+Page 1 carries the check square (100 mm x 100 mm: measure it; printed at "actual size" it is
+exactly that), the piece's annotation (`cloth.files.piece.Piece.annotation`) and, where the
+piece is tiled, the map of its tiles. The pages after it carry the piece at true scale: on one
+page where it fits the printable area (the paper less `MARGIN_MM` each side), else on tiles of
+that area that overlap by `OVERLAP_MM`. A tile is named by its row (A, B, ... from the bottom)
+and column (1, 2, ... from the left); the inner edge of each overlap band is dotted, and crosses
+on the band's middle line sit at the same place of the piece on both tiles that share it: lay
+the tiles with their crosses on each other and tape them.
+
+matplotlib writes the PDF (already a dependency; reportlab would be another for the same
+result): each page is a figure of the paper's size in inches whose axes span the printable
+area with limits in mm, so one data mm is one printed mm; snapping and path simplification are
+off, so the PDF's coordinates are exact (PDF units: 1 pt = 25.4 / 72 mm).
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import string
+from pathlib import Path
+
+import matplotlib.pyplot as plt
+import numpy as np
+from matplotlib.backends.backend_pdf import PdfPages
+from matplotlib.patches import Polygon, Rectangle
+
+from cloth.errors import InputError
+from cloth.files.piece import Piece
+from cloth.io import atomic_output
+
+log = logging.getLogger(__name__)
+
+#: Paper sizes, mm (width, height), portrait.
+PAPERS = {"A4": (210.0, 297.0), "letter": (215.9, 279.4)}
+#: Unprinted margin on every side, mm (most printers print to within 5 mm of the edge).
+MARGIN_MM = 10.0
+#: Overlap of neighbouring tiles, mm.
+OVERLAP_MM = 15.0
+#: Side of the check square, mm.
+SQUARE_MM = 100.0
+#: Clearance around the piece's cut line, mm.
+CLEARANCE_MM = 5.0
+MM_PER_INCH = 25.4
+
+
+def tiles(
+    bounds: tuple[float, float, float, float], paper: str
+) -> list[tuple[int, int, tuple[float, float, float, float]]]:
+    """The tiles covering ``bounds`` (x0, y0, x1, y1, mm) on ``paper``: (row, column, window
+    (x0, y0, x1, y1) mm), rows from the bottom, columns from the left; one tile where the
+    bounds fit the printable area."""
+    width, height = _printable(paper)
+    x0, y0, x1, y1 = bounds
+    columns = _count(x1 - x0, width)
+    rows = _count(y1 - y0, height)
+    out = []
+    for r in range(rows):
+        for c in range(columns):
+            left = x0 + c * (width - OVERLAP_MM)
+            bottom = y0 + r * (height - OVERLAP_MM)
+            out.append((r, c, (left, bottom, left + width, bottom + height)))
+    return out
+
+
+def tile_name(row: int, column: int) -> str:
+    return f"{string.ascii_uppercase[row % 26]}{column + 1}"
+
+
+def _printable(paper: str) -> tuple[float, float]:
+    if paper not in PAPERS:
+        raise InputError(
+            f"unknown paper {paper!r}; give one of {', '.join(PAPERS)}", field="--paper"
+        )
+    width, height = PAPERS[paper]
+    return width - 2 * MARGIN_MM, height - 2 * MARGIN_MM
+
+
+def _count(length: float, printable: float) -> int:
+    if length <= printable:
+        return 1
+    return 1 + math.ceil((length - printable) / (printable - OVERLAP_MM))
+
+
+def write_pdf(piece: Piece, path: Path, paper: str = "A4") -> Path:
+    """``piece`` at 1:1 on ``paper`` to ``path`` (module docstring)."""
+    cut = piece.cut
+    bounds = (
+        float(cut[:, 0].min()) - CLEARANCE_MM,
+        float(cut[:, 1].min()) - CLEARANCE_MM,
+        float(cut[:, 0].max()) + CLEARANCE_MM,
+        float(cut[:, 1].max()) + CLEARANCE_MM,
+    )
+    layout = tiles(bounds, paper)
+    with atomic_output(path) as tmp, PdfPages(tmp, metadata={"Creator": "cloth"}) as pdf:
+        pdf.savefig(_cover(piece, paper, layout, bounds))
+        for row, column, window in layout:
+            pdf.savefig(_tile(piece, paper, row, column, window, layout))
+    plt.close("all")
+    log.info("wrote %s: %d tile(s) on %s at 1:1", path, len(layout), paper)
+    return path
+
+
+def _page(paper: str):
+    width, height = PAPERS[paper]
+    fig = plt.figure(figsize=(width / MM_PER_INCH, height / MM_PER_INCH))
+    return fig, width, height
+
+
+def _cover(piece: Piece, paper: str, layout, bounds) -> plt.Figure:
+    fig, width, height = _page(paper)
+    ax = fig.add_axes((0.0, 0.0, 1.0, 1.0))
+    ax.set_xlim(0.0, width)
+    ax.set_ylim(0.0, height)
+    ax.set_axis_off()
+    left, top = MARGIN_MM + 5.0, height - MARGIN_MM - 5.0
+    ax.add_patch(
+        Rectangle(
+            (left, top - SQUARE_MM),
+            SQUARE_MM,
+            SQUARE_MM,
+            fill=False,
+            linewidth=0.8,
+            snap=False,
+            gid="check-square",
+        )
+    )
+    ax.text(left + 0.5 * SQUARE_MM, top - 0.5 * SQUARE_MM, "10 cm", ha="center", va="center")
+    ax.text(
+        left,
+        top - SQUARE_MM - 6.0,
+        "Check square: it must measure 100 mm x 100 mm. If not, print at 100 % (actual size).",
+        fontsize=8,
+        va="top",
+    )
+    lines = [*piece.annotation(), f"Paper: {paper}, {len(layout)} page(s) after this one"]
+    for k, text in enumerate(lines):
+        ax.text(left, top - SQUARE_MM - 20.0 - 6.0 * k, text, fontsize=9, va="top")
+    if len(layout) > 1:
+        _tile_map(ax, layout, bounds, (left, MARGIN_MM + 5.0), piece)
+    return fig
+
+
+def _tile_map(ax, layout, bounds, corner, piece: Piece) -> None:
+    """The tiles' layout, scaled into the lower part of the cover."""
+    x0, y0 = bounds[0], bounds[1]
+    span_x = max(w[2] for _, _, w in layout) - x0
+    span_y = max(w[3] for _, _, w in layout) - y0
+    scale = min(150.0 / span_x, 90.0 / span_y)
+
+    def at(x, y):
+        return corner[0] + (x - x0) * scale, corner[1] + (y - y0) * scale
+
+    ax.add_patch(Polygon([at(*p) for p in piece.cut], fill=False, linewidth=0.6, snap=False))
+    for row, column, (a, b, c, d) in layout:
+        ax.add_patch(
+            Rectangle(
+                at(a, b),
+                (c - a) * scale,
+                (d - b) * scale,
+                fill=False,
+                linewidth=0.4,
+                linestyle=":",
+                snap=False,
+            )
+        )
+        ax.text(*at(0.5 * (a + c), 0.5 * (b + d)), tile_name(row, column), fontsize=7)
+    ax.text(corner[0], corner[1] + span_y * scale + 3.0, "tiles (overlap dotted)", fontsize=8)
+
+
+def _tile(piece: Piece, paper: str, row: int, column: int, window, layout) -> plt.Figure:
+    fig, width, height = _page(paper)
+    pw, ph = width - 2 * MARGIN_MM, height - 2 * MARGIN_MM
+    ax = fig.add_axes((MARGIN_MM / width, MARGIN_MM / height, pw / width, ph / height))
+    x0, y0, x1, y1 = window
+    ax.set_xlim(x0, x1)
+    ax.set_ylim(y0, y1)
+    ax.set_axis_off()
+    _draw_piece(ax, piece)
+    rows = 1 + max(r for r, _, _ in layout)
+    columns = 1 + max(c for _, c, _ in layout)
+    _overlaps(ax, window, row > 0, row < rows - 1, column > 0, column < columns - 1)
+    fig.text(
+        0.5,
+        (height - 0.5 * MARGIN_MM) / height,
+        f"{piece.name} {piece.size}: tile {tile_name(row, column)} "
+        f"(row {row + 1} of {rows} from the bottom, column {column + 1} of {columns})",
+        ha="center",
+        va="center",
+        fontsize=7,
+    )
+    return fig
+
+
+def _draw_piece(ax, piece: Piece) -> None:
+    style = {"snap": False, "fill": False}
+    ax.add_patch(Polygon(piece.cut, linewidth=0.8, edgecolor="black", **style))
+    if piece.allowance > 0:
+        ax.add_patch(Polygon(piece.sew, linewidth=0.5, edgecolor="0.3", linestyle="--", **style))
+    for start, end in piece.notches:
+        ax.plot(*np.stack([start, end]).T, color="black", linewidth=0.8, snap=False)
+    (gx0, gy0), (gx1, gy1) = piece.grain
+    ax.annotate(
+        "",
+        xy=(gx1, gy1),
+        xytext=(gx0, gy0),
+        arrowprops={"arrowstyle": "<->", "linewidth": 0.6},
+    )
+    ax.text(gx0 + 3.0, 0.5 * (gy0 + gy1), "grain (warp)", rotation=90, fontsize=7, va="center")
+    for name, y, left, right in piece.girths:
+        ax.plot([left, right], [y, y], color="tab:red", linewidth=0.5, linestyle="--", snap=False)
+        ax.text(left + 8.0, y + 1.5, name, fontsize=7, color="tab:red")
+    middle = 0.5 * float(piece.sew[:, 1].max())
+    for k, text in enumerate(piece.annotation()[:4]):
+        ax.text(8.0, middle - 6.0 * k, text, fontsize=8)
+
+
+def _overlaps(ax, window, below: bool, above: bool, left: bool, right: bool) -> None:
+    """The overlap bands this tile shares with its neighbours: the band's inner edge dotted,
+    and crosses on the band's middle line, at the same places on both tiles that share it."""
+    x0, y0, x1, y1 = window
+    half = 0.5 * OVERLAP_MM
+    marks = []
+    style = {"color": "0.4", "linewidth": 0.4, "linestyle": ":", "snap": False}
+    for shared, edge, middle in (
+        (left, x0 + OVERLAP_MM, x0 + half),
+        (right, x1 - OVERLAP_MM, x1 - half),
+    ):
+        if shared:
+            ax.plot([edge, edge], [y0, y1], **style)
+            marks += [(middle, y) for y in (y0 + OVERLAP_MM, 0.5 * (y0 + y1), y1 - OVERLAP_MM)]
+    for shared, edge, middle in (
+        (below, y0 + OVERLAP_MM, y0 + half),
+        (above, y1 - OVERLAP_MM, y1 - half),
+    ):
+        if shared:
+            ax.plot([x0, x1], [edge, edge], **style)
+            marks += [(x, middle) for x in (x0 + OVERLAP_MM, 0.5 * (x0 + x1), x1 - OVERLAP_MM)]
+    for x, y in marks:
+        ax.plot([x - 4, x + 4], [y, y], color="black", linewidth=0.5, snap=False)
+        ax.plot([x, x], [y - 4, y + 4], color="black", linewidth=0.5, snap=False)
