@@ -193,12 +193,12 @@ def test_pattern_cli_refuses_a_bad_format_and_writes_nothing(graded, tmp_path):
             str(tmp_path / "p.csv"),
             "--formats",
             "csv",
-            "pdf",
+            "knitting",  # a knitting table of a two-panel cut
         ],
         capture_output=True,
         text=True,
     )
-    assert done.returncode == 2 and "--formats" in done.stderr
+    assert done.returncode == 2 and "--formats" in done.stderr and "tube" in done.stderr
     assert len(done.stderr.strip().splitlines()) == 1 and not list(tmp_path.iterdir())
 
 

@@ -34,7 +34,7 @@ def check_outputs(args: argparse.Namespace) -> None:
         if value is not None:
             folder = dest == "output" and getattr(args, "output_folder", False)
             if args.command == "design":  # a case's design fills a folder, a sweep's a file
-                folder = dest == "output" and args.input.suffix != ".nc"
+                folder = dest == "output" and args.input[0].suffix != ".nc"
             output_path(value, "--" + dest.replace("_", "-"), folder)
 
 

@@ -180,9 +180,19 @@ def export(args: argparse.Namespace) -> int:
 
 
 def pattern(args: argparse.Namespace) -> int:
-    from cloth.files.pattern import write_pattern
+    from cloth.stages.patterns import write_patterns
 
-    write_pattern(args.result, args.output, args.cut, args.formats)
+    write_patterns(
+        args.result,
+        args.output,
+        args.cut,
+        args.formats,
+        args.sizes,
+        args.seam_allowance,
+        args.paper,
+        args.note,
+        args.course_step,
+    )
     return 0
 
 
@@ -208,22 +218,26 @@ def design(args: argparse.Namespace) -> int:
 
     from cloth.results.pressure import MMHG
     from cloth.results.targets import Target
+    from cloth.stages.chart import chart_sizes, design_chart, file_sizes
     from cloth.stages.graded import design_files
     from cloth.stages.sweep import design_file
 
-    if args.input.suffix == ".nc":
+    first = args.input[0]
+    if first.suffix == ".nc":
+        if len(args.input) > 1:
+            raise InputError("a sweep's design takes one sweep.nc", args.input[1], "input")
         if args.target or args.targets is None:
             raise InputError(
                 "a sweep's design takes --targets JSON, not --target; --target designs a case",
-                args.input,
+                first,
                 "--targets",
             )
-        design_file(args.input, json.loads(args.targets), args.output)
+        design_file(first, json.loads(args.targets), args.output)
         return 0
     if args.targets is not None:
         raise InputError(
             "a case's design takes --target LINE=PRESSURE (repeat per line), not --targets",
-            args.input,
+            first,
             "--target",
         )
     if not (args.tolerance > 0 and args.tolerance < float("inf")):
@@ -231,7 +245,21 @@ def design(args: argparse.Namespace) -> int:
             f"must be a positive number of mmHg, got {args.tolerance}", field="--tolerance"
         )
     targets = [Target.parse(text) for text in args.target]
-    design_files(args.input, targets, args.output, args.tolerance * MMHG, args.base_dir)
+    options = {"cut": args.cut, "allowance": args.seam_allowance, "paper": args.paper}
+    if args.sizes is not None and len(args.input) > 1:
+        raise InputError(
+            "--sizes takes one case on a chart's body; several case files are one size each",
+            field="--sizes",
+        )
+    if args.sizes is None and len(args.input) == 1:
+        design_files(first, targets, args.output, args.tolerance * MMHG, args.base_dir, **options)
+        return 0
+    sizes = (
+        chart_sizes(first, args.sizes, args.base_dir)
+        if args.sizes is not None
+        else file_sizes(args.input, args.base_dir)
+    )
+    design_chart(sizes, targets, args.output, args.tolerance * MMHG, cold=args.cold, **options)
     return 0
 
 

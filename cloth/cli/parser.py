@@ -32,6 +32,45 @@ def _positive_int(text: str) -> int:
     return value
 
 
+def _sizes(text: str) -> list[str]:
+    """A comma-separated list of size names: ``S,M,L``."""
+    names = [name.strip() for name in text.split(",")]
+    if not all(names):
+        raise argparse.ArgumentTypeError(
+            f"give size names separated by commas, e.g. S,M,L; got {text!r}"
+        )
+    return names
+
+
+def _millimetres(text: str) -> float:
+    """A length in mm, >= 0 and finite."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"give a length in mm, got {text!r}") from None
+    if not (value >= 0 and value < float("inf")):
+        raise argparse.ArgumentTypeError(f"must be a length >= 0 in mm, got {text}")
+    return value
+
+
+def _pattern_options(command: argparse.ArgumentParser) -> None:
+    """The pattern pieces' options (`cloth.files.piece`, `cloth.files.printout`)."""
+    command.add_argument(
+        "--seam-allowance",
+        type=_millimetres,
+        default=6.0,
+        metavar="MM",
+        help="seam allowance of the cut line around the sew line, mm (default 6, a flatlock "
+        "seam's; 0: the net pattern)",
+    )
+    command.add_argument(
+        "--paper",
+        choices=("A4", "letter"),
+        default="A4",
+        help="paper of the 1:1 PDF, tiled where the piece does not fit (default A4)",
+    )
+
+
 def _force_option(command: argparse.ArgumentParser) -> None:
     command.add_argument(
         "--force",
@@ -315,15 +354,20 @@ def build_parser() -> argparse.ArgumentParser:
     exp.set_defaults(handler="export")
 
     pat = commands.add_parser(
-        "pattern", help="result.nc -> the cut pattern: CSV table, SVG and DXF outline (1:1, mm)"
+        "pattern",
+        help="result.nc (one per size) -> the cut pattern: CSV table, SVG and DXF outline, the "
+        "graded nest in AAMA/ASTM DXF, a 1:1 PDF, a tube's knitting table (mm; docs/outputs.md)",
     )
-    pat.add_argument("result", type=_path, help="result.nc from cloth aggregate")
+    pat.add_argument(
+        "result", type=_path, nargs="+", help="result.nc from cloth aggregate, one per size"
+    )
     pat.add_argument(
         "-o",
         "--output",
         type=_path,
         required=True,
-        help="pattern.csv to write; the SVG and DXF get its name with their suffixes",
+        help="pattern.csv to write; the other files get its name with their suffixes "
+        "(pattern_astm.dxf, pattern_knitting.csv; with several sizes pattern_{size}.csv ...)",
     )
     pat.add_argument(
         "--cut",
@@ -335,9 +379,28 @@ def build_parser() -> argparse.ArgumentParser:
     pat.add_argument(
         "--formats",
         nargs="+",
-        choices=("csv", "svg", "dxf"),
-        default=["csv", "svg", "dxf"],
-        help="files to write (default: all three; DXF needs the extra pattern: ezdxf)",
+        choices=("csv", "svg", "dxf", "astm", "pdf", "knitting"),
+        help="files to write (default: every one that applies: knitting for a tube only; the "
+        "DXF files need the extra pattern: ezdxf)",
+    )
+    pat.add_argument(
+        "--sizes",
+        type=_sizes,
+        help="the results' size names, in order, e.g. S,M,L (default: each result's chart size)",
+    )
+    _pattern_options(pat)
+    pat.add_argument(
+        "--course-step",
+        type=float,
+        default=5.0,
+        metavar="MM",
+        help="course step of the knitting table, mm of the tube's rest height (default 5)",
+    )
+    pat.add_argument(
+        "--note",
+        action="append",
+        default=[],
+        help="a note for every piece's annotation (e.g. the pressure targets); repeatable",
     )
     pat.set_defaults(handler="pattern")
 
@@ -366,7 +429,13 @@ def build_parser() -> argparse.ArgumentParser:
         help="sweep.nc -> design.csv: the uniform reduction per target; or case.yaml -> a "
         "graded pattern meeting a pressure on every target line (docs/outputs.md)",
     )
-    de.add_argument("input", type=_path, help="sweep.nc from cloth sweep, or a case YAML")
+    de.add_argument(
+        "input",
+        type=_path,
+        nargs="+",
+        help="sweep.nc from cloth sweep, or a case YAML; or one case YAML per size (each size "
+        "named by its file's stem)",
+    )
     de.add_argument("--targets", help="with sweep.nc: JSON list of {landmark, pressure_mmHg}")
     de.add_argument(
         "--target",
@@ -388,6 +457,24 @@ def build_parser() -> argparse.ArgumentParser:
         default=0.5,
         help="with a case: how near every line must come to its target, mmHg (default 0.5)",
     )
+    de.add_argument(
+        "--sizes",
+        type=_sizes,
+        help="with a case on a parametric torso or leg: design these sizes of its chart at "
+        "once, e.g. S,M,L, each warm-started from the one before it",
+    )
+    de.add_argument(
+        "--cold",
+        action="store_true",
+        help="with several sizes: start each size from the case, not from the size before it",
+    )
+    de.add_argument(
+        "--cut",
+        choices=("auto", "two-panel", "tube"),
+        default="auto",
+        help="with a case: the pattern's cut (default auto: a tube on a leg, two panels elsewhere)",
+    )
+    _pattern_options(de)
     de.add_argument(
         "-o",
         "--output",

@@ -13,7 +13,14 @@ In ``DIR``:
   and its estimated discretisation error, whether it is met, the uniform answer, the designed
   knot values and the equilibria used (mmHg; reductions 1);
 * ``design_profile.png``: per line, the target, the uniform answer and the graded answer;
-* ``pattern.csv``, ``.svg`` and ``.dxf`` (`cloth.files.pattern`; DXF where ezdxf is installed).
+* the pattern (`cloth.stages.patterns`): ``pattern.csv``, ``.svg`` and ``.dxf`` (the plain
+  outline), ``pattern_astm.dxf`` (the piece in the AAMA / ASTM D6673 convention) and
+  ``pattern.pdf`` (1:1 with a check square), and for a tube ``pattern_knitting.csv`` and
+  ``.png``; the DXF files where ezdxf is installed. The cut (``--cut``) is a tube on a leg
+  (a stocking is knitted in the round), two panels elsewhere, unless given.
+
+``cloth design CASE --sizes S,M,L`` designs every size of the chart at once
+(`cloth.stages.chart`).
 
 A target out of reach writes all of these, marked ``met`` 0, and then ends in one line naming
 the line, the closest pressure and the bound (`InputError`, exit status 2).
@@ -21,7 +28,6 @@ the line, the closest pressure and the bound (`InputError`, exit status 2).
 
 from __future__ import annotations
 
-import importlib.util
 import logging
 from pathlib import Path
 
@@ -29,17 +35,20 @@ import matplotlib.pyplot as plt
 import numpy as np
 import xarray as xr
 
+from cloth.case import Case
 from cloth.errors import InputError
 from cloth.figures.plots import save_figure
 from cloth.files.body import body_from_record
 from cloth.files.casefile import write_case
-from cloth.files.pattern import write_pattern
+from cloth.files.pattern import CUTS
+from cloth.files.piece import SEAM_ALLOWANCE_MM
 from cloth.pipeline.config import load_case
 from cloth.pipeline.sweep import write_rows
 from cloth.results.pressure import MMHG
 from cloth.results.targets import Target
 from cloth.stages.case import initial_state, run_case
 from cloth.stages.design import TOLERANCE, Design, design
+from cloth.stages.patterns import default_formats, write_patterns
 
 log = logging.getLogger(__name__)
 
@@ -50,16 +59,83 @@ def design_files(
     output: Path,
     tolerance: float = TOLERANCE,
     base_dir: Path | None = None,
+    cut: str = "auto",
+    allowance: float = SEAM_ALLOWANCE_MM,
+    paper: str = "A4",
 ) -> Design:
     """The design of ``case_path`` to ``targets`` and its files in ``output`` (module
     docstring); `InputError` after writing them when a target is out of reach."""
-    if not targets:
-        raise InputError("give at least one target, e.g. --target waist=20", field="--target")
+    check_targets(targets)
     case = load_case(case_path)
     base_dir = Path(case_path).parent if base_dir is None else Path(base_dir)
-    state = initial_state(case, base_dir, str(case_path))
+    cut = cut_of(case, cut)
+    result, rows = design_one(case, targets, output, tolerance, base_dir, str(case_path))
+    write_rows(rows, output / "design_confirmed.csv", list(rows[0]))
+    plot_profile_design(rows, output / "design_profile.png")
+    formats = pattern_formats(cut)
+    write_patterns(
+        [output / "confirmed" / "result.nc"],
+        output / "pattern.csv",
+        cut,
+        formats,
+        allowance=allowance,
+        paper=paper,
+        notes=[target_note(rows)],
+        style=output.name,
+    )
+    log.info(
+        "design: %s in %d equilibria (%d in the loop, 1 confirmation)%s",
+        "every target met" if all(row["met"] for row in rows) else "NOT every target met",
+        result.solves + 1,
+        result.solves,
+        "" if "dxf" in formats else "; no DXF (pip install 'cloth[pattern]')",
+    )
+    raise_unmet(result, rows, tolerance, case_path)
+    return result
+
+
+def check_targets(targets: list[Target]) -> None:
+    if not targets:
+        raise InputError("give at least one target, e.g. --target waist=20", field="--target")
+
+
+def cut_of(case: Case, cut: str) -> str:
+    """``cut``, or for ``auto`` the cut of the case's garment: a tube on a leg (a stocking is
+    knitted in the round), two panels elsewhere."""
+    if cut == "auto":
+        return "tube" if case.body.kind == "leg" else "two-panel"
+    if cut not in CUTS:
+        raise InputError(
+            f"unknown cut {cut!r}; give auto or one of {', '.join(CUTS)}", field="--cut"
+        )
+    return cut
+
+
+def pattern_formats(cut: str) -> list[str]:
+    """The pattern files a design writes: every format that applies and is installed."""
+    return default_formats(cut)
+
+
+def target_note(rows: list[dict[str, object]]) -> str:
+    """The design's pressure targets as the pattern's annotation note."""
+    targets = dict.fromkeys(f"{row['landmark']} {row['target_mmHg']:.4g}" for row in rows)
+    return "pressure targets (mmHg): " + ", ".join(targets)
+
+
+def design_one(
+    case: Case,
+    targets: list[Target],
+    output: Path,
+    tolerance: float,
+    base_dir: Path,
+    source: str,
+) -> tuple[Design, list[dict[str, object]]]:
+    """The design of ``case`` (paths relative to ``base_dir``) into ``output``: its case.yaml,
+    design_iterations.csv and confirmation from scratch (module docstring); the outcome and its
+    design_confirmed.csv rows, not yet written."""
+    state = initial_state(case, base_dir, source)
     body = body_from_record(state.body)
-    result = design(state, body, targets, tolerance, str(case_path))
+    result = design(state, body, targets, tolerance, source)
     output.mkdir(parents=True, exist_ok=True)
     data = result.state.case.to_dict()
     data["garment"]["reduction"] = result.reduction()
@@ -67,31 +143,29 @@ def design_files(
     _iterations(result, output / "design_iterations.csv")
     run_case(designed, output / "confirmed", {}, stop_after="aggregate")  # as written
     confirmed = xr.load_dataset(output / "confirmed" / "result.nc")
-    rows = confirmed_rows(result, confirmed)
-    write_rows(rows, output / "design_confirmed.csv", list(rows[0]))
-    plot_profile_design(rows, output / "design_profile.png")
-    formats = ["csv", "svg"] + (["dxf"] if importlib.util.find_spec("ezdxf") else [])
-    write_pattern(output / "confirmed" / "result.nc", output / "pattern.csv", formats=formats)
-    met = all(row["met"] for row in rows)
-    log.info(
-        "design: %s in %d equilibria (%d in the loop, 1 confirmation)%s",
-        "every target met" if met else "NOT every target met",
-        result.solves + 1,
-        result.solves,
-        "" if "dxf" in formats else "; no DXF (pip install 'cloth[pattern]')",
-    )
+    return result, confirmed_rows(result, confirmed)
+
+
+def raise_unmet(
+    result: Design, rows: list[dict[str, object]], tolerance: float, source: Path | str
+) -> None:
+    """`InputError` for a design out of reach, or confirmed off its target, else nothing."""
     if result.shortfall is not None:
-        raise InputError(result.shortfall, case_path, "targets")
-    if not met:
+        raise InputError(result.shortfall, source, "targets")
+    if not all(row["met"] for row in rows):
         worst = max(rows, key=lambda row: abs(row["confirmed_mmHg"] - row["target_mmHg"]))
+        size = f" (size {worst['size']})" if row_size(worst) else ""
         raise InputError(
-            f"{worst['landmark']}: confirmed at {worst['confirmed_mmHg']:.2f} mmHg from scratch, "
-            f"target {worst['target_mmHg']:.2f} +- {tolerance / MMHG:.2g} mmHg; the loop's "
-            "equilibrium and the one from scratch differ (see design_confirmed.csv)",
-            case_path,
+            f"{worst['landmark']}{size}: confirmed at {worst['confirmed_mmHg']:.2f} mmHg from "
+            f"scratch, target {worst['target_mmHg']:.2f} +- {tolerance / MMHG:.2g} mmHg; the "
+            "loop's equilibrium and the one from scratch differ (see design_confirmed.csv)",
+            source,
             "targets",
         )
-    return result
+
+
+def row_size(row: dict[str, object]) -> str:
+    return str(row.get("size") or "")
 
 
 def _iterations(result: Design, path: Path) -> None:
