@@ -75,6 +75,28 @@ def test_names_of_sweep_cases():
             ),
             "cases.mine.material",
         ),
+        (
+            lambda c: c["profile_designs"]["graded"].update(bodies=["torso_S"]),
+            "profile_designs.graded",  # body and bodies
+        ),
+        (
+            lambda c: c["profile_designs"]["graded"].pop("body"),
+            "profile_designs.graded",  # neither
+        ),
+        (
+            lambda c: (
+                c["profile_designs"]["graded"].update(bodies=["torso_S", "torso_XL"], body=None)
+                or c["profile_designs"]["graded"].pop("body")
+            ),
+            "profile_designs.graded.bodies.1",
+        ),
+        (
+            lambda c: (
+                c["profile_designs"]["graded"].update(bodies=["torso_S", "torso_S"])
+                or c["profile_designs"]["graded"].pop("body")
+            ),
+            "profile_designs.graded.bodies",
+        ),
     ],
 )
 def test_a_bad_config_is_refused_naming_its_key(change, field):
@@ -83,6 +105,20 @@ def test_a_bad_config_is_refused_naming_its_key(change, field):
     with pytest.raises(InputError) as error:
         make_plan(config, ROOT)
     assert error.value.field.startswith(field)
+
+
+def test_a_chart_design_has_a_case_per_body_in_order_and_its_pattern_options():
+    config = copy.deepcopy(CONFIG)
+    graded = config["profile_designs"]["graded"]
+    graded.pop("body")
+    graded.update(bodies=["torso_M", "torso_S"], pattern={"cut": "tube", "seam_allowance_mm": 0})
+    design = make_plan(config, ROOT).designs["graded"]
+    assert design.chart and list(design.cases) == ["torso_M", "torso_S"]
+    assert [c.body.params["size"] for c in design.cases.values()] == ["M", "S"]
+    assert design.pattern == ["--cut=tube", "--seam-allowance=0.0", "--paper=A4"]
+    single = make_plan(CONFIG, ROOT).designs["graded"]
+    assert not single.chart and list(single.cases) == ["torso_M"]
+    assert single.pattern == ["--cut=auto", "--seam-allowance=6.0", "--paper=A4"]
 
 
 def test_a_confirmation_case_is_the_sweeps_case_at_the_designed_reduction():

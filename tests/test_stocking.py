@@ -59,10 +59,15 @@ def test_the_stocking_answers_class_ii_at_b_and_designs_the_graded_pattern(stock
     (answer,) = _rows(stocking / "design_confirmed.csv")
     assert answer["landmark"] == "B" and answer["status"] == "ok"
     assert 23 <= float(answer["confirmed_mmHg"]) <= 32  # class II
-    design = {
-        row["landmark"]: row
-        for row in _rows(stocking / "designs" / "graded" / "design_confirmed.csv")
-    }
-    assert set(design) == {"B", "C", "F"}
-    assert all(row["met"] == "1" for row in design.values())
+    rows = _rows(stocking / "designs" / "graded" / "design_confirmed.csv")
+    sizes = ["leg_S", "leg_M", "leg_L"]  # the chart's bodies, in the config's order
+    assert [(r["size"], r["landmark"]) for r in rows] == [
+        (size, line) for size in sizes for line in ("B", "C", "F")
+    ]
+    assert all(row["met"] == "1" for row in rows)
+    knitting = _rows(stocking / "designs" / "graded" / "pattern_knitting.csv")
+    assert [size for size in dict.fromkeys(r["size"] for r in knitting)] == sizes
+    for size in sizes:
+        points = {r["girth_point"] for r in knitting if r["size"] == size} - {""}
+        assert {"B", "C", "F"} <= points
     assert (ROOT / "config" / "stocking.yaml").is_file()

@@ -101,7 +101,8 @@ def offset(polygon: NDArray[np.float64], distance: float) -> NDArray[np.float64]
     # the mitre: the point at distance d from both moved edges, on the bisector
     scale = distance / np.maximum(np.einsum("ij,ij->i", bisector, normal), 1e-12)
     grown = polygon + scale[:, None] * bisector
-    if _crosses_itself(grown):
+    moved = np.roll(grown, -1, axis=0) - grown
+    if np.any(np.einsum("ij,ij->i", moved, edge) <= 0) or _crosses_itself(grown):
         raise InputError(
             f"the seam allowance of {distance:g} mm folds the cut line over itself (a concave "
             "curve of the sew line is tighter than that); give a smaller allowance",

@@ -72,6 +72,24 @@ def sweep_name(material: str, body: str, reduction: float, variant: Variant | No
     return f"{material}__{body}__{reduction_tag(reduction)}{tag}"
 
 
+@dataclass(frozen=True)
+class ProfileDesign:
+    """A profile design of the config: its start case per body (config body name -> case;
+    several bodies: every size of a chart, designed at once), its targets as ``cloth design
+    --target`` texts, its tolerance (mmHg) and its pattern's options as ``cloth design``
+    arguments (``--cut``, ``--seam-allowance``, ``--paper``)."""
+
+    cases: dict[str, Case]
+    targets: list[str]
+    tolerance: float
+    pattern: list[str]
+    chart: bool
+
+    @property
+    def first(self) -> Case:
+        return next(iter(self.cases.values()))
+
+
 @dataclass
 class Plan:
     """The cases of a config: ``cases`` (name -> validated case block, sweep cases included),
@@ -85,8 +103,8 @@ class Plan:
     cases: dict[str, Case] = field(default_factory=dict)
     sweep: dict[str, dict] = field(default_factory=dict)
     index: list[dict] = field(default_factory=list)
-    #: Profile designs: name -> (start case, ``--target`` texts, tolerance in mmHg).
-    designs: dict[str, tuple[Case, list[str], float]] = field(default_factory=dict)
+    #: Profile designs by name (`ProfileDesign`).
+    designs: dict[str, ProfileDesign] = field(default_factory=dict)
 
     def case(self, name: str, block: dict | None = None, where: str = "cases") -> Case:
         """Case ``name`` of the config (or ``block``) with its material as the ingested file,
@@ -199,20 +217,31 @@ def _expand_sweep(plan: Plan) -> None:
                     )
 
 
-def profile_design(plan: Plan, name: str) -> tuple[Case, list[str], float]:
-    """A profile design of the config (``profile_designs``): its start case (the sweep's
-    garment and solver, the design's garment keys over them, its start reduction), its
-    targets as ``cloth design --target`` texts and its tolerance (mmHg)."""
+def profile_design(plan: Plan, name: str) -> ProfileDesign:
+    """A profile design of the config (``profile_designs``): its start case per body (the
+    sweep's garment and solver, the design's garment keys over them, its start reduction), its
+    targets as ``cloth design --target`` texts, its tolerance (mmHg) and pattern options."""
     config = plan.config
     design = config["profile_designs"][name]
     where = f"profile_designs.{name}"
-    if design["body"] not in config.get("bodies", {}):
+    if ("body" in design) == ("bodies" in design):
         raise InputError(
-            f"body {design['body']!r} is not defined under bodies "
-            f"({', '.join(sorted(config.get('bodies', {}))) or 'none defined'})",
+            "give body (one body) or bodies (every size of a chart at once), not both or neither",
             "config",
-            f"{where}.body",
+            where,
         )
+    names = [design["body"]] if "body" in design else list(design["bodies"])
+    key = "body" if "body" in design else "bodies"
+    for number, body in enumerate(names):
+        if body not in config.get("bodies", {}):
+            raise InputError(
+                f"body {body!r} is not defined under bodies "
+                f"({', '.join(sorted(config.get('bodies', {}))) or 'none defined'})",
+                "config",
+                f"{where}.{key}" + ("" if key == "body" else f".{number}"),
+            )
+    if len(set(names)) != len(names):
+        raise InputError("a body is listed twice; give each size once", "config", f"{where}.bodies")
     if "reduction" in design.get("garment", {}):
         raise InputError(
             "the design sets the reduction; use start_reduction",
@@ -220,18 +249,19 @@ def profile_design(plan: Plan, name: str) -> tuple[Case, list[str], float]:
             f"{where}.garment.reduction",
         )
     sweep = config.get("sweep") or {}
-    block = {
-        "material": design["material"],
-        "body": local_body(
-            config["bodies"][design["body"]], design["body"], plan.base, plan.layout
-        ),
-        "garment": {
-            **sweep.get("garment", {}),
-            **design.get("garment", {}),
-            "reduction": design.get("start_reduction", 0.2),
-        },
-        "solver": sweep.get("solver", {}),
-    }
+    cases = {}
+    for body in names:
+        block = {
+            "material": design["material"],
+            "body": local_body(config["bodies"][body], body, plan.base, plan.layout),
+            "garment": {
+                **sweep.get("garment", {}),
+                **design.get("garment", {}),
+                "reduction": design.get("start_reduction", 0.2),
+            },
+            "solver": sweep.get("solver", {}),
+        }
+        cases[body] = plan.case(name, block, "profile_designs")
     targets = []
     for number, text in enumerate(design["targets"]):
         try:
@@ -244,10 +274,14 @@ def profile_design(plan: Plan, name: str) -> tuple[Case, list[str], float]:
         raise InputError(
             "a girth line is targeted twice; give each line once", "config", f"{where}.targets"
         )
-    return (
-        plan.case(name, block, "profile_designs"),
-        targets,
-        float(design.get("tolerance_mmHg", 0.5)),
+    pattern = design.get("pattern", {})
+    options = [
+        f"--cut={pattern.get('cut', 'auto')}",
+        f"--seam-allowance={float(pattern.get('seam_allowance_mm', 6.0))}",
+        f"--paper={pattern.get('paper', 'A4')}",
+    ]
+    return ProfileDesign(
+        cases, targets, float(design.get("tolerance_mmHg", 0.5)), options, "bodies" in design
     )
 
 

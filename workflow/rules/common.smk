@@ -4,6 +4,7 @@
 # folder.
 import importlib.util
 import json
+import shlex
 
 from snakemake.logging import logger
 
@@ -123,7 +124,11 @@ def all_outputs():
     designs = [
         design_file(name, design)
         for design in sorted(DESIGNS)
-        for name in ("design_confirmed.csv", "design_profile.png", "pattern.svg")
+        for name in (
+            ("design_confirmed.csv", "design_reductions.png")
+            if DESIGNS[design].chart
+            else ("design_confirmed.csv", "design_profile.png", "pattern.svg")
+        )
     ]
     return (
         sweep
@@ -162,16 +167,43 @@ SURFACE_RESOURCES = surface_resources()
 
 def design_case_json(wildcards):
     """A profile design's start case, for `cloth case write --json`."""
-    return json.dumps(DESIGNS[wildcards.design][0].to_dict(), sort_keys=True)
+    return json.dumps(DESIGNS[wildcards.design].first.to_dict(), sort_keys=True)
 
 
-def design_targets(wildcards):
-    return " ".join(f"--target={text}" for text in DESIGNS[wildcards.design][1])
+def design_arguments(wildcards):
+    """A profile design's ``--target`` texts and pattern options, for `cloth design`."""
+    design = DESIGNS[wildcards.design]
+    return " ".join([f"--target={text}" for text in design.targets] + design.pattern)
 
 
 def design_material(wildcards):
-    return DESIGNS[wildcards.design][0].material
+    return DESIGNS[wildcards.design].first.material
 
 
 def design_body_files(wildcards):
-    return plan_body_files(DESIGNS[wildcards.design][0])
+    cases = DESIGNS[wildcards.design].cases.values()
+    return sorted({path for case in cases for path in plan_body_files(case)})
+
+
+def chart_writes(wildcards, output):
+    """A chart design's shell: one `cloth case write` per size into ``output.starts``."""
+    return " && ".join(
+        f"cloth case write --json {shlex.quote(json.dumps(case.to_dict(), sort_keys=True))} "
+        f"-o {shlex.quote(f'{output.starts}/{size}.yaml')}"
+        for size, case in DESIGNS[wildcards.design].cases.items()
+    )
+
+
+def chart_inputs(wildcards, output):
+    """A chart design's start cases, in the config's order of its bodies (the warm start's)."""
+    return " ".join(
+        shlex.quote(f"{output.starts}/{size}.yaml")
+        for size in DESIGNS[wildcards.design].cases
+    )
+
+
+def design_names(chart):
+    """A wildcard constraint matching the names of the chart designs (``chart``) or of the
+    single ones; one that matches nothing where there are none."""
+    names = [name for name, design in DESIGNS.items() if design.chart == chart]
+    return "|".join(names) if names else "(?!)"

@@ -1,0 +1,82 @@
+"""The pattern piece's geometry (issue 42) against closed forms: the seam allowance's offset of
+a rectangle and of a trapezoid (each edge moved out by exactly the allowance, mitred corners),
+the crossings of a polygon with a height, a fold refused, and the PDF's tiles."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from cloth.errors import InputError
+from cloth.files.astm import distance_to
+from cloth.files.piece import crossings, offset
+from cloth.files.printout import MARGIN_MM, OVERLAP_MM, PAPERS, tiles
+
+
+def test_a_rectangle_grows_by_the_allowance_on_every_side():
+    rectangle = np.array([[0.0, 0.0], [200.0, 0.0], [200.0, 300.0], [0.0, 300.0]])
+    grown = offset(rectangle, 6.0)
+    np.testing.assert_allclose(
+        grown, [[-6.0, -6.0], [206.0, -6.0], [206.0, 306.0], [-6.0, 306.0]], atol=1e-12
+    )
+    np.testing.assert_array_equal(offset(rectangle, 0.0), rectangle)
+
+
+def test_a_trapezoid_s_slanted_side_moves_out_along_its_normal():
+    """Bottom 200 mm, top 100 mm, height 300 mm: the right side x = 100 - y tan t (t its angle
+    from vertical, tan t = 50 / 300) moved out by a along its normal is x = 100 - y tan t +
+    a / cos t, so the cut line's corner on the bottom's offset (y = -a) is at
+    x = 100 + a tan t + a / cos t."""
+    a = 6.0
+    trapezoid = np.array([[-100.0, 0.0], [100.0, 0.0], [50.0, 300.0], [-50.0, 300.0]])
+    grown = offset(trapezoid, a)
+    t = math.atan(50.0 / 300.0)
+    # the side x = 100 - y tan t moved out by a: x = 100 - y tan t + a / cos t; at y = -a
+    x_bottom = 100.0 + a * math.tan(t) + a / math.cos(t)
+    assert grown[1] == pytest.approx([x_bottom, -a], abs=1e-9)
+    assert grown[0] == pytest.approx([-x_bottom, -a], abs=1e-9)
+    # every vertex of the trapezoid is at least a from the cut line, each edge's middle exactly a
+    assert distance_to(grown, trapezoid).min() == pytest.approx(a, abs=1e-9)
+    middles = 0.5 * (trapezoid + np.roll(trapezoid, -1, axis=0))
+    np.testing.assert_allclose(distance_to(grown, middles), a, atol=1e-9)
+
+
+def test_an_allowance_that_folds_a_tight_notch_is_refused():
+    """A V cut 2 mm wide into the sew line closes under a 6 mm allowance: the offset crosses
+    itself, and a cut line that crosses itself cannot be cut."""
+    vee = np.array(
+        [[0, 0], [100, 0], [100, 100], [51, 100], [50, 20], [49, 100], [0, 100]], dtype=float
+    )
+    with pytest.raises(InputError, match="folds the cut line over itself") as caught:
+        offset(vee, 6.0)
+    assert caught.value.field == "pattern.seam_allowance_mm"
+    assert len(offset(vee, 0.2)) == len(vee)  # narrower than the V: fine
+
+
+def test_crossings_of_a_height_are_the_polygon_s_sides():
+    trapezoid = np.array([[-100.0, 0.0], [100.0, 0.0], [50.0, 300.0], [-50.0, 300.0]])
+    np.testing.assert_allclose(crossings(trapezoid, 150.0), [-75.0, 75.0])
+    np.testing.assert_allclose(crossings(trapezoid, 0.0), [-100.0, 100.0])
+
+
+@pytest.mark.parametrize("paper", list(PAPERS))
+@pytest.mark.parametrize("size", [(150.0, 200.0), (500.0, 400.0), (1200.0, 90.0)])
+def test_tiles_cover_the_piece_and_overlap_by_the_band(paper, size):
+    bounds = (-0.5 * size[0], 0.0, 0.5 * size[0], size[1])
+    layout = tiles(bounds, paper)
+    width, height = (v - 2 * MARGIN_MM for v in PAPERS[paper])
+    columns = 1 + max(c for _, c, _ in layout)
+    rows = 1 + max(r for r, _, _ in layout)
+    assert len(layout) == rows * columns
+    if size[0] <= width:
+        assert columns == 1
+    for _, _, (x0, y0, x1, y1) in layout:
+        assert x1 - x0 == pytest.approx(width) and y1 - y0 == pytest.approx(height)
+    lefts = sorted({w[0] for _, _, w in layout})
+    assert np.diff(lefts) == pytest.approx([width - OVERLAP_MM] * (columns - 1))
+    assert lefts[0] == bounds[0] and max(w[2] for _, _, w in layout) >= bounds[2]
+    assert max(w[3] for _, _, w in layout) >= bounds[3]
+    # no tile more than needed: one column fewer would not reach the right edge
+    assert lefts[-1] < bounds[2]
