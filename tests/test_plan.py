@@ -51,6 +51,16 @@ def test_names_of_sweep_cases():
     assert sweep_name("lycra", "scan", 0.2) == "lycra__scan__r200"
 
 
+def _chart_of(bodies: list[str]):
+    """A config change: the default design over ``bodies`` in place of its body."""
+
+    def change(config: dict) -> None:
+        config["profile_designs"]["graded"].pop("body")
+        config["profile_designs"]["graded"]["bodies"] = bodies
+
+    return change
+
+
 @pytest.mark.parametrize(
     ("change", "field"),
     [
@@ -83,20 +93,8 @@ def test_names_of_sweep_cases():
             lambda c: c["profile_designs"]["graded"].pop("body"),
             "profile_designs.graded",  # neither
         ),
-        (
-            lambda c: (
-                c["profile_designs"]["graded"].update(bodies=["torso_S", "torso_XL"], body=None)
-                or c["profile_designs"]["graded"].pop("body")
-            ),
-            "profile_designs.graded.bodies.1",
-        ),
-        (
-            lambda c: (
-                c["profile_designs"]["graded"].update(bodies=["torso_S", "torso_S"])
-                or c["profile_designs"]["graded"].pop("body")
-            ),
-            "profile_designs.graded.bodies",
-        ),
+        (_chart_of(["torso_S", "torso_XL"]), "profile_designs.graded.bodies.1"),
+        (_chart_of(["torso_S", "torso_S"]), "profile_designs.graded.bodies"),
     ],
 )
 def test_a_bad_config_is_refused_naming_its_key(change, field):
