@@ -149,9 +149,7 @@ def design_chart(
     for size, entry in sizes.items():
         case = entry.case
         if previous is not None and not cold:
-            data = case.to_dict()
-            data["garment"]["reduction"] = previous.reduction()
-            case = Case.from_dict(data, entry.source)
+            case = warm_case(case, previous, entry.source)
         start = time.perf_counter()
         result, size_rows = design_one(
             case, targets, output / size, tolerance, entry.base_dir, entry.source
@@ -191,6 +189,13 @@ def design_chart(
             f"{sizes[size].source} (size {size})",
         )
     return designs
+
+
+def warm_case(case: Case, previous: Design, source: str = "case") -> Case:
+    """``case`` starting from ``previous``'s designed reduction profile (the warm start)."""
+    data = case.to_dict()
+    data["garment"]["reduction"] = previous.reduction()
+    return Case.from_dict(data, source)
 
 
 def plot_reductions(results: dict[str, Path], path: Path) -> Path:
