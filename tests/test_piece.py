@@ -8,6 +8,8 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from cloth.errors import InputError
 from cloth.files.astm import distance_to
@@ -80,3 +82,27 @@ def test_tiles_cover_the_piece_and_overlap_by_the_band(paper, size):
     assert max(w[3] for _, _, w in layout) >= bounds[3]
     # no tile more than needed: one column fewer would not reach the right edge
     assert lefts[-1] < bounds[2]
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    steps=st.lists(st.floats(-8.0, 8.0), min_size=4, max_size=60),
+    pitch=st.floats(1.0, 15.0),
+    allowance=st.floats(0.5, 20.0),
+)
+def test_any_sew_line_s_cut_line_is_the_allowance_outside_it_or_refused(steps, pitch, allowance):
+    """A pattern's sew line: rows ``pitch`` mm apart, half widths a random walk. The cut line
+    either is refused as folded, or lies outside the sew line, nowhere nearer than the
+    allowance, and every sew vertex is inside it."""
+    half = np.maximum(60.0 + np.cumsum(steps), 5.0)
+    y = pitch * np.arange(len(half))
+    sew = np.concatenate([np.stack([half, y], 1), np.stack([-half, y], 1)[::-1]])
+    try:
+        cut = offset(sew, allowance)
+    except InputError:
+        return
+    assert distance_to(sew, cut).min() >= allowance - 1e-6
+    assert distance_to(cut, sew).min() >= allowance - 1e-6
+    for x0, y0 in sew:  # inside: the cut line crosses the vertex's height either side of it
+        xs = crossings(cut, y0)
+        assert xs.min() < x0 < xs.max()
