@@ -291,27 +291,26 @@ def test_the_stocking_s_knitting_table_has_every_size_and_its_girth_points(stock
     assert (stocking / "pattern_knitting.png").stat().st_size > 0
 
 
-def test_a_size_not_in_the_chart_is_one_line_naming_the_chart_s_sizes(tmp_path):
+def _refused(folder: Path, body: dict, *args: str) -> str:
+    """``cloth design`` of a case on ``body`` with ``args``: refused in one line, exit 2, no
+    output folder; the line."""
     case = {
         "material": "powernet",
-        "body": {"torso": {"size": "M"}},
-        "garment": {"bottom": 0.9, "top": 1.15, "reduction": 0.15, "grid": [24, 8]},
+        "body": body,
+        "garment": {"bottom": 0.1, "top": 0.3, "reduction": 0.15, "grid": [24, 8]},
     }
-    (tmp_path / "case.yaml").write_text(yaml.safe_dump(case))
-    done = _cloth(
-        "design",
-        str(tmp_path / "case.yaml"),
-        "--sizes",
-        "S,XL",
-        "--target=waist=10",
-        "-o",
-        str(tmp_path / "out"),
-    )
+    (folder / "case.yaml").write_text(yaml.safe_dump(case))
+    done = _cloth("design", str(folder / "case.yaml"), "-o", str(folder / "out"), *args)
     lines = done.stderr.strip().splitlines()
     assert done.returncode == 2 and len(lines) == 1, done.stderr
-    assert "size 'XL' is not in the chart" in lines[0] and "S, M, L" in lines[0]
-    assert "size_chart.csv" in lines[0] and "--sizes" in lines[0]
-    assert not (tmp_path / "out").exists()
+    assert not (folder / "out").exists()
+    return lines[0]
+
+
+def test_a_size_not_in_the_chart_is_one_line_naming_the_chart_s_sizes(tmp_path):
+    line = _refused(tmp_path, {"torso": {"size": "M"}}, "--sizes", "S,XL", "--target=waist=10")
+    assert "size 'XL' is not in the chart" in line and "S, M, L" in line
+    assert "size_chart.csv" in line and "--sizes" in line
 
 
 @pytest.mark.parametrize(
@@ -324,41 +323,10 @@ def test_a_size_not_in_the_chart_is_one_line_naming_the_chart_s_sizes(tmp_path):
     ],
 )
 def test_a_bad_chart_option_is_one_line(tmp_path, args, words):
-    case = {
-        "material": "powernet",
-        "body": {"torso": {"size": "M"}},
-        "garment": {"bottom": 0.9, "top": 1.15, "reduction": 0.15, "grid": [24, 8]},
-    }
-    (tmp_path / "case.yaml").write_text(yaml.safe_dump(case))
-    done = _cloth(
-        "design",
-        str(tmp_path / "case.yaml"),
-        "--target=waist=10",
-        "-o",
-        str(tmp_path / "o"),
-        *args,
-    )
-    lines = done.stderr.strip().splitlines()
-    assert done.returncode == 2 and len(lines) == 1 and words in lines[0], done.stderr
-    assert not (tmp_path / "o").exists()
+    assert words in _refused(tmp_path, {"torso": {"size": "M"}}, "--target=waist=10", *args)
 
 
 def test_sizes_need_a_chart_body(tmp_path):
-    case = {
-        "material": "powernet",
-        "body": {"cylinder": {"radius": 0.1}},
-        "garment": {"bottom": 0.1, "top": 0.3, "reduction": 0.15, "grid": [24, 8]},
-    }
-    (tmp_path / "case.yaml").write_text(yaml.safe_dump(case))
-    done = _cloth(
-        "design",
-        str(tmp_path / "case.yaml"),
-        "--sizes",
-        "S",
-        "--target=middle=10",
-        "-o",
-        str(tmp_path / "o"),
-    )
-    lines = done.stderr.strip().splitlines()
-    assert done.returncode == 2 and len(lines) == 1
-    assert "parametric torso or leg" in lines[0] and "one case file per size" in lines[0]
+    body = {"cylinder": {"radius": 0.1}}
+    line = _refused(tmp_path, body, "--sizes", "S", "--target=middle=10")
+    assert "parametric torso or leg" in line and "one case file per size" in line
