@@ -26,6 +26,7 @@ import logging
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+from types import ModuleType
 
 import numpy as np
 from numpy.typing import NDArray
@@ -64,7 +65,7 @@ TEXT_MM = 6.0
 TURN_DEGREES = 30.0
 
 
-def ezdxf_module():
+def ezdxf_module() -> ModuleType:
     """ezdxf, or an `InputError` naming the extra that installs it."""
     try:
         import ezdxf
