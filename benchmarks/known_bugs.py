@@ -1,5 +1,6 @@
 """Plant, one at a time, the bugs that once passed every test (issue 34's reporting bugs and
-issue 43's planted-bug audit), each on a copy of the tree, and check that the tests now fail.
+issue 43's planted-bug audit), and bugs in the cutting room's files (issue 42), each on a copy
+of the tree, and check that the tests now fail.
 
     .venv/bin/python benchmarks/known_bugs.py [--only NAME ...]
 
@@ -169,6 +170,42 @@ BUGS = [
         "    return Path(path)",
         "    Path(path).write_text(buffer.getvalue())\n    return Path(path)",
         "tests/test_kill.py -k summary",
+    ),
+    # issue 42: the cutting room's files
+    Bug(
+        "seam allowance offset by half the allowance",
+        "cloth/files/piece.py",
+        "    grown = polygon + scale[:, None] * bisector",
+        "    grown = polygon + 0.5 * scale[:, None] * bisector",
+        "tests/test_piece.py tests/test_chart.py -k 'allowance or rectangle or trapezoid'",
+    ),
+    Bug(
+        "notch cut outward",
+        "cloth/files/piece.py",
+        "np.array([left + depth, y])",
+        "np.array([left - depth, y])",
+        "tests/test_chart.py -k widths",
+    ),
+    Bug(
+        "check square 99 mm",
+        "cloth/files/printout.py",
+        "SQUARE_MM = 100.0",
+        "SQUARE_MM = 99.0",
+        "tests/test_chart.py -k check_square",
+    ),
+    Bug(
+        "knitting circumference read top to bottom",
+        "cloth/files/knitting.py",
+        "circumference = np.interp(at, pattern.height, pattern.circumference)",
+        "circumference = np.interp(at, pattern.height, pattern.circumference[::-1])",
+        "tests/test_chart.py -k knitting",
+    ),
+    Bug(
+        "sizes not warm-started",
+        "cloth/stages/chart.py",
+        "            case = warm_case(case, previous, entry.source)",
+        "            pass",
+        "tests/test_chart.py -k warm",
     ),
 ]
 
