@@ -82,8 +82,8 @@ BUGS = [
     Bug(
         "cloth design --tolerance ignored",
         "cloth/cli/handlers.py",
-        "design_files(args.input, targets, args.output, args.tolerance * MMHG, args.base_dir)",
-        "design_files(args.input, targets, args.output, 0.5 * MMHG, args.base_dir)",
+        "args.output, args.tolerance * MMHG, args.base_dir, **options)",
+        "args.output, 0.5 * MMHG, args.base_dir, **options)",
         "tests/test_design.py -k tolerance",
     ),
     Bug(
