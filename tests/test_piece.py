@@ -5,6 +5,7 @@ the crossings of a polygon with a height, a fold refused, and the PDF's tiles.""
 from __future__ import annotations
 
 import math
+import re
 
 import numpy as np
 import pytest
@@ -13,8 +14,9 @@ from hypothesis import strategies as st
 
 from cloth.errors import InputError
 from cloth.files.astm import distance_to
-from cloth.files.piece import crossings, offset
-from cloth.files.printout import MARGIN_MM, OVERLAP_MM, PAPERS, tiles
+from cloth.files.pattern import Pattern
+from cloth.files.piece import crossings, offset, piece_of
+from cloth.files.printout import CLEARANCE_MM, MARGIN_MM, OVERLAP_MM, PAPERS, tiles, write_pdf
 
 
 def test_a_rectangle_grows_by_the_allowance_on_every_side():
@@ -63,12 +65,15 @@ def test_crossings_of_a_height_are_the_polygon_s_sides():
     np.testing.assert_allclose(crossings(trapezoid, 0.0), [-100.0, 100.0])
 
 
+@pytest.mark.parametrize("landscape", [False, True])
 @pytest.mark.parametrize("paper", list(PAPERS))
 @pytest.mark.parametrize("size", [(150.0, 200.0), (500.0, 400.0), (1200.0, 90.0)])
-def test_tiles_cover_the_piece_and_overlap_by_the_band(paper, size):
+def test_tiles_cover_the_piece_and_overlap_by_the_band(paper, size, landscape):
     bounds = (-0.5 * size[0], 0.0, 0.5 * size[0], size[1])
-    layout = tiles(bounds, paper)
+    layout = tiles(bounds, paper, landscape)
     width, height = (v - 2 * MARGIN_MM for v in PAPERS[paper])
+    if landscape:
+        width, height = height, width
     columns = 1 + max(c for _, c, _ in layout)
     rows = 1 + max(r for r, _, _ in layout)
     assert len(layout) == rows * columns
@@ -106,3 +111,24 @@ def test_any_sew_line_s_cut_line_is_the_allowance_outside_it_or_refused(steps, p
     for x0, y0 in sew:  # inside: the cut line crosses the vertex's height either side of it
         xs = crossings(cut, y0)
         assert xs.min() < x0 < xs.max()
+
+
+@pytest.mark.parametrize(("width", "pages"), [(170.0, {(595.3, 841.9)}), (250.0, {(841.9, 595.3)})])
+def test_a_piece_is_printed_on_the_orientation_with_fewer_tiles(tmp_path, width, pages):
+    """A rectangle 150 mm high: 170 mm wide fits A4 portrait's printable 190 x 277 mm on one
+    page; 250 mm wide does not (two tiles) but fits landscape's 277 x 190 on one."""
+    height = np.linspace(0.0, 150.0, 4)
+    pattern = Pattern(
+        height=height,
+        width=np.full(4, width - 2 * 6.0 - 2 * CLEARANCE_MM),
+        circumference=np.full(4, 2 * width),
+        cut_height=1e-3 * height,
+        reduction=None,
+        lines=(),
+        cut="two-panel",
+    )
+    path = write_pdf(piece_of(pattern, "M", "test"), tmp_path / "p.pdf")
+    boxes = re.findall(rb"/MediaBox \[ ?0 0 ([\d.]+) ([\d.]+) ?\]", path.read_bytes())
+    sizes = [(round(float(w), 1), round(float(h), 1)) for w, h in boxes]
+    assert sizes[0] == (595.3, 841.9) and len(sizes) == 2  # the cover, portrait; one tile
+    assert set(sizes[1:]) == pages

@@ -1,10 +1,11 @@
 """A piece printed at 1:1 (issue 42): a PDF a sample room prints on A4 or letter and checks.
 
-Page 1 carries the check square (100 mm x 100 mm: measure it; printed at "actual size" it is
-exactly that), the piece's annotation (`cloth.files.piece.Piece.annotation`) and, where the
-piece is tiled, the map of its tiles. The pages after it carry the piece at true scale: on one
-page where it fits the printable area (the paper less `MARGIN_MM` each side), else on tiles of
-that area that overlap by `OVERLAP_MM`. A tile is named by its row (A, B, ... from the bottom)
+Page 1 (portrait) carries the check square (100 mm x 100 mm: measure it; printed at "actual
+size" it is exactly that), the piece's annotation (`cloth.files.piece.Piece.annotation`) and,
+where the piece is tiled, the map of its tiles. The pages after it carry the piece at true
+scale: on one page where it fits the printable area (the paper less `MARGIN_MM` each side), else
+on tiles of that area that overlap by `OVERLAP_MM`, the paper turned to landscape where that
+takes fewer tiles. A tile is named by its row (A, B, ... from the bottom)
 and column (1, 2, ... from the left); the inner edge of each overlap band is dotted, and crosses
 on the band's middle line sit at the same place of the piece on both tiles that share it: lay
 the tiles with their crosses on each other and tape them.
@@ -47,12 +48,12 @@ MM_PER_INCH = 25.4
 
 
 def tiles(
-    bounds: tuple[float, float, float, float], paper: str
+    bounds: tuple[float, float, float, float], paper: str, landscape: bool = False
 ) -> list[tuple[int, int, tuple[float, float, float, float]]]:
-    """The tiles covering ``bounds`` (x0, y0, x1, y1, mm) on ``paper``: (row, column, window
-    (x0, y0, x1, y1) mm), rows from the bottom, columns from the left; one tile where the
-    bounds fit the printable area."""
-    width, height = _printable(paper)
+    """The tiles covering ``bounds`` (x0, y0, x1, y1, mm) on ``paper`` (turned a quarter where
+    ``landscape``): (row, column, window (x0, y0, x1, y1) mm), rows from the bottom, columns
+    from the left; one tile where the bounds fit the printable area."""
+    width, height = _printable(paper, landscape)
     x0, y0, x1, y1 = bounds
     columns = _count(x1 - x0, width)
     rows = _count(y1 - y0, height)
@@ -69,12 +70,18 @@ def tile_name(row: int, column: int) -> str:
     return f"{string.ascii_uppercase[row % 26]}{column + 1}"
 
 
-def _printable(paper: str) -> tuple[float, float]:
+def sheet(paper: str, landscape: bool = False) -> tuple[float, float]:
+    """The page of ``paper`` (width, height), mm, portrait or ``landscape``."""
     if paper not in PAPERS:
         raise InputError(
             f"unknown paper {paper!r}; give one of {', '.join(PAPERS)}", field="--paper"
         )
     width, height = PAPERS[paper]
+    return (height, width) if landscape else (width, height)
+
+
+def _printable(paper: str, landscape: bool = False) -> tuple[float, float]:
+    width, height = sheet(paper, landscape)
     return width - 2 * MARGIN_MM, height - 2 * MARGIN_MM
 
 
@@ -93,24 +100,33 @@ def write_pdf(piece: Piece, path: Path, paper: str = "A4") -> Path:
         float(cut[:, 0].max()) + CLEARANCE_MM,
         float(cut[:, 1].max()) + CLEARANCE_MM,
     )
-    layout = tiles(bounds, paper)
+    portrait, landscape = tiles(bounds, paper), tiles(bounds, paper, landscape=True)
+    turned = len(landscape) < len(portrait)
+    layout = landscape if turned else portrait
+    page = sheet(paper, turned)
     with atomic_output(path) as tmp, PdfPages(tmp, metadata={"Creator": "cloth"}) as pdf:
-        pdf.savefig(_cover(piece, paper, layout, bounds))
+        pdf.savefig(_cover(piece, paper, layout, bounds, turned))
         for row, column, window in layout:
-            pdf.savefig(_tile(piece, paper, row, column, window, layout))
+            pdf.savefig(_tile(piece, page, row, column, window, layout))
     plt.close("all")
-    log.info("wrote %s: %d tile(s) on %s at 1:1", path, len(layout), paper)
+    log.info(
+        "wrote %s: %d tile(s) on %s%s at 1:1",
+        path,
+        len(layout),
+        paper,
+        " landscape" if turned else "",
+    )
     return path
 
 
-def _page(paper: str):
-    width, height = PAPERS[paper]
+def _page(page: tuple[float, float]):
+    width, height = page
     fig = plt.figure(figsize=(width / MM_PER_INCH, height / MM_PER_INCH))
     return fig, width, height
 
 
-def _cover(piece: Piece, paper: str, layout, bounds) -> plt.Figure:
-    fig, width, height = _page(paper)
+def _cover(piece: Piece, paper: str, layout, bounds, turned: bool) -> plt.Figure:
+    fig, width, height = _page(sheet(paper))
     ax = fig.add_axes((0.0, 0.0, 1.0, 1.0))
     ax.set_xlim(0.0, width)
     ax.set_ylim(0.0, height)
@@ -135,7 +151,11 @@ def _cover(piece: Piece, paper: str, layout, bounds) -> plt.Figure:
         fontsize=8,
         va="top",
     )
-    lines = [*piece.annotation(), f"Paper: {paper}, {len(layout)} page(s) after this one"]
+    orientation = "landscape" if turned else "portrait"
+    lines = [
+        *piece.annotation(),
+        f"Paper: {paper}; {len(layout)} page(s) after this one, {orientation}",
+    ]
     for k, text in enumerate(lines):
         ax.text(left, top - SQUARE_MM - 20.0 - 6.0 * k, text, fontsize=9, va="top")
     if len(layout) > 1:
@@ -170,8 +190,10 @@ def _tile_map(ax, layout, bounds, corner, piece: Piece) -> None:
     ax.text(corner[0], corner[1] + span_y * scale + 3.0, "tiles (overlap dotted)", fontsize=8)
 
 
-def _tile(piece: Piece, paper: str, row: int, column: int, window, layout) -> plt.Figure:
-    fig, width, height = _page(paper)
+def _tile(
+    piece: Piece, page: tuple[float, float], row: int, column: int, window, layout
+) -> plt.Figure:
+    fig, width, height = _page(page)
     pw, ph = width - 2 * MARGIN_MM, height - 2 * MARGIN_MM
     ax = fig.add_axes((MARGIN_MM / width, MARGIN_MM / height, pw / width, ph / height))
     x0, y0, x1, y1 = window
