@@ -196,21 +196,21 @@ def read_nest(path: str | Path) -> Nest:
         if block.name.startswith("*") or block.name.startswith("$"):
             continue
         piece = NestPiece(block.name)
+        polylines = {BOUNDARY: piece.cut, SEW: piece.sew}
+        lines = {
+            NOTCH: piece.notches,
+            GRAIN: piece.grain,
+            GRADE: piece.grade,
+            INTERNAL: piece.internal,
+        }
         for entity in block:
             layer, kind = entity.dxf.layer, entity.dxftype()
             if kind == "POLYLINE":
                 points = np.array([(v.dxf.location.x, v.dxf.location.y) for v in entity.vertices])
-                {BOUNDARY: piece.cut, SEW: piece.sew}.get(layer, []).append(points)
+                polylines.get(layer, []).append(points)
             elif kind == "LINE":
                 start, end = entity.dxf.start, entity.dxf.end
-                line = np.array([(start.x, start.y), (end.x, end.y)])
-                lists = {
-                    NOTCH: piece.notches,
-                    GRAIN: piece.grain,
-                    GRADE: piece.grade,
-                    INTERNAL: piece.internal,
-                }
-                lists.get(layer, []).append(line)
+                lines.get(layer, []).append(np.array([(start.x, start.y), (end.x, end.y)]))
             elif kind == "POINT" and layer == TURN:
                 piece.turns.append(np.array([entity.dxf.location.x, entity.dxf.location.y]))
             elif kind == "TEXT":

@@ -49,10 +49,15 @@ COLUMNS = [
 ]
 
 
-def course_heights(pattern: Pattern, step: float) -> np.ndarray:
-    """(c,) mm: the courses' rest heights from the bottom edge, every ``step`` and the top."""
+def check_step(step: float) -> None:
+    """`InputError` for a course step that is not a finite length > 0 (mm)."""
     if not (np.isfinite(step) and step > 0):
         raise InputError(f"must be a length > 0 in mm, got {step}", field="--course-step")
+
+
+def course_heights(pattern: Pattern, step: float) -> np.ndarray:
+    """(c,) mm: the courses' rest heights from the bottom edge, every ``step`` and the top."""
+    check_step(step)
     bottom, top = float(pattern.height[0]), float(pattern.height[-1])
     heights = np.arange(0.0, top - bottom, step)
     return np.append(heights, top - bottom)
@@ -88,13 +93,8 @@ def knitting_rows(patterns: Mapping[str, Pattern], step: float = STEP_MM) -> lis
 def write_knitting(
     patterns: Mapping[str, Pattern], csv_path: Path, png_path: Path, step: float = STEP_MM
 ) -> list[Path]:
-    """``knitting.csv`` and ``knitting.png`` (module docstring) of the tubes ``patterns``."""
-    cuts = {p.cut for p in patterns.values()}
-    if cuts != {"tube"}:
-        raise InputError(
-            "the knitting table is for a tube: give --cut tube, or leave out the format knitting",
-            field="--formats",
-        )
+    """``knitting.csv`` and ``knitting.png`` (module docstring) of the tubes ``patterns``
+    (`cloth.stages.patterns.check_formats` refuses another cut before any file)."""
     with atomic_output(csv_path) as tmp, tmp.open("w", newline="") as handle:
         writer = csv.DictWriter(handle, fieldnames=COLUMNS)
         writer.writeheader()

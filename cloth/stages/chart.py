@@ -50,7 +50,6 @@ from cloth.stages.graded import (
     check_targets,
     cut_of,
     design_one,
-    pattern_formats,
     plot_profile_design,
     raise_unmet,
     target_note,
@@ -174,7 +173,7 @@ def design_chart(
         list(results.values()),
         output / "pattern.csv",
         cut,
-        pattern_formats(cut),
+        None,  # every format that applies and is installed
         sizes=list(results),
         allowance=allowance,
         paper=paper,

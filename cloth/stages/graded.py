@@ -72,7 +72,7 @@ def design_files(
     result, rows = design_one(case, targets, output, tolerance, base_dir, str(case_path))
     write_rows(rows, output / "design_confirmed.csv", list(rows[0]))
     plot_profile_design(rows, output / "design_profile.png")
-    formats = pattern_formats(cut)
+    formats = default_formats(cut)
     write_patterns(
         [output / "confirmed" / "result.nc"],
         output / "pattern.csv",
@@ -109,11 +109,6 @@ def cut_of(case: Case, cut: str) -> str:
             f"unknown cut {cut!r}; give auto or one of {', '.join(CUTS)}", field="--cut"
         )
     return cut
-
-
-def pattern_formats(cut: str) -> list[str]:
-    """The pattern files a design writes: every format that applies and is installed."""
-    return default_formats(cut)
 
 
 def target_note(rows: list[dict[str, object]]) -> str:
@@ -154,18 +149,13 @@ def raise_unmet(
         raise InputError(result.shortfall, source, "targets")
     if not all(row["met"] for row in rows):
         worst = max(rows, key=lambda row: abs(row["confirmed_mmHg"] - row["target_mmHg"]))
-        size = f" (size {worst['size']})" if row_size(worst) else ""
         raise InputError(
-            f"{worst['landmark']}{size}: confirmed at {worst['confirmed_mmHg']:.2f} mmHg from "
+            f"{worst['landmark']}: confirmed at {worst['confirmed_mmHg']:.2f} mmHg from "
             f"scratch, target {worst['target_mmHg']:.2f} +- {tolerance / MMHG:.2g} mmHg; the "
             "loop's equilibrium and the one from scratch differ (see design_confirmed.csv)",
             source,
             "targets",
         )
-
-
-def row_size(row: dict[str, object]) -> str:
-    return str(row.get("size") or "")
 
 
 def _iterations(result: Design, path: Path) -> None:

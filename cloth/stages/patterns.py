@@ -31,10 +31,10 @@ import xarray as xr
 
 from cloth.errors import InputError
 from cloth.files.astm import write_nest
-from cloth.files.knitting import STEP_MM, course_heights, write_knitting
+from cloth.files.knitting import STEP_MM, check_step, write_knitting
 from cloth.files.pattern import CUTS, pattern_of, write_csv, write_dxf, write_svg
 from cloth.files.piece import SEAM_ALLOWANCE_MM, piece_of
-from cloth.files.printout import PAPERS, write_pdf
+from cloth.files.printout import sheet, write_pdf
 from cloth.io import read_netcdf
 
 log = logging.getLogger(__name__)
@@ -113,10 +113,7 @@ def write_patterns(
         raise InputError("give at least one result.nc", field="result")
     if cut not in CUTS:
         raise InputError(f"unknown cut {cut!r}; give one of {', '.join(CUTS)}", field="--cut")
-    if paper not in PAPERS:
-        raise InputError(
-            f"unknown paper {paper!r}; give one of {', '.join(PAPERS)}", field="--paper"
-        )
+    sheet(paper)  # an unknown paper refused before any file
     formats = default_formats(cut) if formats is None else list(formats)
     check_formats(formats, cut)
     datasets = [read_netcdf(r, "result") for r in results]
@@ -139,8 +136,7 @@ def write_patterns(
         for size, data, path in zip(sizes, datasets, results, strict=True)
     }
     if "knitting" in formats:
-        for pattern in patterns.values():
-            course_heights(pattern, step)  # a bad step refused before any file
+        check_step(step)  # refused before any file
     material = str(datasets[0].attrs.get("fabric_name", "fabric"))
     pieces = {
         size: piece_of(pattern, size, material, allowance, notes)
