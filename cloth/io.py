@@ -17,13 +17,15 @@ import sys
 import tempfile
 from collections.abc import Iterator, Mapping
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
-import xarray as xr
 
 from cloth import __version__
 from cloth.errors import InputError
+
+if TYPE_CHECKING:
+    import xarray as xr
 
 CONVENTIONS = "CF-1.11"
 
@@ -138,6 +140,8 @@ def read_netcdf(path: str | Path, kind: str, required: tuple[str, ...] = ()) -> 
     required : tuple of str
         Variables that must be present.
     """
+    import xarray as xr  # here, not at the top: a stage that writes no netCDF skips its import
+
     path = Path(path)
     if not path.is_file():
         raise InputError("file not found; check the path or run the stage that makes it", path)
@@ -176,6 +180,8 @@ def resolve(path: str, base_dir: str | Path) -> Path:
 def variable(dims, values, units: str | None, long_name: str, **attrs: Any) -> xr.Variable:
     """A CF variable: ``values`` along ``dims`` with its ``units`` (None for one without, such
     as labels) and ``long_name``, plus ``attrs``. The project's one way to make one."""
+    import xarray as xr  # as in read_netcdf
+
     base = {"long_name": long_name} if units is None else {"units": units, "long_name": long_name}
     return xr.Variable(dims, values, {**base, **attrs})
 

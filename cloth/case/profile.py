@@ -25,7 +25,6 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.interpolate import PchipInterpolator
 
 from cloth.errors import InputError
 
@@ -107,6 +106,9 @@ class Profile:
             return np.full(z.shape, float(v[0]))
         order = np.argsort(h)
         h, v = h[order], v[order]
+        # imported here: scipy.interpolate takes ~0.5 s, which `cloth case write` need not pay
+        from scipy.interpolate import PchipInterpolator
+
         return PchipInterpolator(h, v, extrapolate=False)(np.clip(z, h[0], h[-1]))
 
     def row_sensitivity(

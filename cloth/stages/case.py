@@ -17,7 +17,6 @@ import xarray as xr
 
 from cloth.case import Case
 from cloth.errors import EXIT_DIVERGED, InputError, StageFailed
-from cloth.figures.plots import plot_garment_3d
 from cloth.files.body import body_from_config, body_from_record
 from cloth.files.levels import level_variables, mark_values
 from cloth.files.material import load_fabric
@@ -90,6 +89,9 @@ def predeform_file(
 
 
 def _plot_wrapped(state, path: Path, name: str) -> None:
+    # late: matplotlib takes ~0.4 s to import, which relax (same module) need not pay
+    from cloth.figures.plots import plot_garment_3d  # late: matplotlib (above)
+
     grid = state.grid
     strain = spring_state(state.x, grid).strain[grid.family_slices[0]]
     body = body_from_record(state.body)

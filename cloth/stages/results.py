@@ -11,9 +11,6 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from cloth.figures.onbody import FIELDS, body_band, plot_on_body, shared_ranges
-from cloth.figures.plots import plot_result
-from cloth.figures.view import write_view
 from cloth.files import levels
 from cloth.files.body import body_from_record
 from cloth.files.result import (
@@ -201,19 +198,22 @@ def figures(
     profiles and the garment on the body. Colour ranges: ``stress_range`` (Pa) and
     ``pressure_range`` (mmHg) where given, else the range over ``peers`` (the result files of
     the case's sweep, so that its figures compare) and the result itself."""
+    # matplotlib takes ~0.4 s to import, which relax and aggregate need not pay: imported here
+    from cloth.figures import onbody  # late: matplotlib (above)
+    from cloth.figures.plots import plot_result  # late: matplotlib (above)
+
     ds = read_netcdf(result_path, "result", ("stress_weft", "pressure", "u", "v"))
     others = [read_netcdf(p, "result", ("stress_weft", "pressure_mmHg")) for p in peers]
-    shared_stress, shared_pressure = shared_ranges([ds, *others])
+    shared_stress, shared_pressure = onbody.shared_ranges([ds, *others])
     stress_range = stress_range or shared_stress
     pressure_range = pressure_range or shared_pressure
     paths = plot_result(ds, folder, stress_range, pressure_range)
-    body = body_band(ds)
-    for name, (variable, scale, _) in FIELDS.items():
+    body = onbody.body_band(ds)
+    for name, (variable, scale, _) in onbody.FIELDS.items():
         low, high = pressure_range if variable == "pressure_mmHg" else stress_range
         scale = 1.0 if variable == "pressure_mmHg" else scale
-        paths.append(
-            plot_on_body(ds, name, Path(folder) / f"{name}.png", (low * scale, high * scale), body)
-        )
+        shown = (low * scale, high * scale)
+        paths.append(onbody.plot_on_body(ds, name, Path(folder) / f"{name}.png", shown, body))
     return paths
 
 
@@ -255,6 +255,9 @@ def write_result(
 def view(result: str | Path | xr.Dataset, output: str | Path) -> Path:
     """result.nc (or its dataset) -> the interactive HTML view over its body
     (`cloth.figures.view`)."""
+    from cloth.figures.onbody import body_band  # as in `figures`: matplotlib only where drawn
+    from cloth.figures.view import write_view  # as in `figures`
+
     ds = (
         result
         if isinstance(result, xr.Dataset)
