@@ -4,6 +4,7 @@
 # folder.
 import importlib.util
 import json
+import os
 import shlex
 
 from snakemake.logging import logger
@@ -145,13 +146,27 @@ def case_resource(stage, name):
     checkpoint, which a cluster job of this rule cannot see)."""
 
     def value(wildcards):
-        if wildcards.case in CASES:
-            cases = [CASES[wildcards.case]]
-        else:
-            cases = [CASES[n] for n in SWEEP_BLOCKS] or [case_block(wildcards.case)]
+        cases = resource_cases(wildcards)
         return max(getattr(stage_resources(stage, case), name) for case in cases)
 
     return value
+
+
+def resource_cases(wildcards):
+    """The cases whose needs a job of ``wildcards.case`` asks for: the case itself, or for a
+    confirmation case of the design, every sweep case (`case_resource`)."""
+    if wildcards.case in CASES:
+        return [CASES[wildcards.case]]
+    return [CASES[n] for n in SWEEP_BLOCKS] or [case_block(wildcards.case)]
+
+
+def relax_threads(wildcards):
+    """Rule relax's ``threads:``: the case's ``solver.blas_threads`` (relax holds every BLAS
+    library to that many, docs/solvers.md; 1 by default, so that two cases relax side by side
+    on two cores), or every core where it is null (the libraries' choice); Snakemake lowers
+    it to ``--cores``."""
+    asked = [case.solver.blas_threads for case in resource_cases(wildcards)]
+    return (os.cpu_count() or 1) if None in asked else max(asked)
 
 
 def design_answer(wildcards):

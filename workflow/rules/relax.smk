@@ -12,7 +12,7 @@ rule relax:
         "benchmarks/results/relax/{case}.tsv"
     conda:
         "../envs/cloth.yaml"
-    threads: 2
+    threads: relax_threads
     resources:
         mem_mb=case_resource("relax", "mem_mb"),
         runtime=case_resource("relax", "runtime"),
