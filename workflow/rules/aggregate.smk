@@ -14,6 +14,7 @@ rule aggregate:
         ),
     log:
         "logs/aggregate/{case}.log",
+    priority: CRITICAL
     conda:
         "../envs/cloth.yaml"
     resources:

@@ -100,6 +100,13 @@ def confirmation_results(wildcards):
     ]
 
 
+#: ``priority:`` of the rules on the way to the design's answers (a case's write, predeform,
+#: relax and aggregate, the sweep, the design and its confirmation, the profile designs):
+#: figures and views wait for them. Without it Snakemake's greedy scheduler prefers the ready
+#: jobs with the largest inputs, the figures (each reads its whole sweep's results), and make
+#: run's sweep waited for all 16 cases' figures before the design could start.
+CRITICAL = 1
+
 #: The interactive view per case needs plotly (the extra ``view``); without it the pipeline
 #: leaves garment.html out and says so once.
 VIEW = importlib.util.find_spec("plotly") is not None

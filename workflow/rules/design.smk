@@ -26,6 +26,7 @@ rule profile_design:
         "logs/profile_design/{design}.log",
     wildcard_constraints:
         design=design_names(chart=False),
+    priority: CRITICAL
     conda:
         "../envs/cloth.yaml"
     params:
@@ -60,6 +61,7 @@ rule chart_design:
         "logs/chart_design/{design}.log",
     wildcard_constraints:
         design=design_names(chart=True),
+    priority: CRITICAL
     conda:
         "../envs/cloth.yaml"
     params:

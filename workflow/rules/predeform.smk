@@ -8,6 +8,7 @@ rule write_case:
         case_file("case.yaml"),
     log:
         "logs/write_case/{case}.log",
+    priority: CRITICAL
     conda:
         "../envs/cloth.yaml"
     params:
@@ -34,6 +35,7 @@ rule predeform:
         "logs/predeform/{case}.log",
     benchmark:
         "benchmarks/results/predeform/{case}.tsv"
+    priority: CRITICAL
     conda:
         "../envs/cloth.yaml"
     resources:

@@ -10,6 +10,7 @@ rule relax:
         "logs/relax/{case}.log",
     benchmark:
         "benchmarks/results/relax/{case}.tsv"
+    priority: CRITICAL
     conda:
         "../envs/cloth.yaml"
     threads: relax_threads

@@ -20,6 +20,7 @@ rule sweep:
         ),
     log:
         "logs/sweep.log",
+    priority: CRITICAL
     conda:
         "../envs/cloth.yaml"
     params:
@@ -39,6 +40,7 @@ checkpoint design:
         sweep_file("design.csv"),
     log:
         "logs/design.log",
+    priority: CRITICAL
     conda:
         "../envs/cloth.yaml"
     params:
@@ -60,6 +62,7 @@ rule confirm:
         ),
     log:
         "logs/confirm.log",
+    priority: CRITICAL
     conda:
         "../envs/cloth.yaml"
     params:
