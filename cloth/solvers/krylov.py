@@ -35,7 +35,7 @@ KRYLOV_PATIENCE = 1.5
 #: A kept factor is given up before it is tried where the last Krylov solve on it needed more
 #: than KRYLOV_STALE iterations: the matrix only drifts further from it, and the next solve
 #: failed at the limit or took longer (measured on the torso at 448 x 224 with cholmod: solves
-#: 628 -> 420, factorisations 13 -> 15, the relax 0.90 of the time, median of 6 alternating
+#: 628 -> 420, factorisations 13 -> 15, the relax 0.87 of the median time of 6 alternating
 #: pairs; the equilibrium the same to 3e-15 m).
 KRYLOV_STALE = 15
 #: Inexact Newton: a reused solve need only reach FORCING x the relative residual (at most
