@@ -21,6 +21,42 @@ def test_default_config_dry_run(tmp_path):
     assert "predeform" in result.stdout
 
 
+def _jobs(dry_run: str, rule: str) -> dict[str, str]:
+    """The job blocks of ``rule`` in a dry run's output, by their ``case`` wildcard."""
+    blocks = dry_run.split("\nrule ")
+    found = {}
+    for block in blocks:
+        if block.startswith(f"{rule}:"):
+            case = block.split("wildcards: case=")[1].split()[0]
+            found[case] = block.split("\n[")[0]
+    return found
+
+
+def test_relax_asks_for_the_threads_its_case_uses_and_the_design_path_goes_first(tmp_path):
+    """relax holds BLAS to ``solver.blas_threads`` threads (1 by default), so its job asks for
+    that many cores (two relax side by side on two cores), or every core where it is null; the
+    rules on the way to the design answers have a priority over figures and views."""
+    where = workspace(tmp_path)
+    case = {
+        "material": "powernet",
+        "body": {"cylinder": {"radius": 0.1, "bottom": 0.0, "top": 0.5}},
+        "garment": {"bottom": 0.1, "top": 0.4, "reduction": 0.2, "grid": [16, 6]},
+    }
+    config = {
+        "materials": {"powernet": {"table": "data/materials/powernet.csv", "knots": 6}},
+        "cases": {"one": case, "all_cores": {**case, "solver": {"blas_threads": None}}},
+    }
+    (where / "config/config.yaml").write_text(yaml.safe_dump(config))
+    result = snakemake(where, "-n")
+    assert result.returncode == 0, result.stderr[-3000:]
+    relax = _jobs(result.stdout, "relax")
+    assert "threads:" not in relax["one"]  # Snakemake prints threads above 1 only
+    assert "threads: 2" in relax["all_cores"]  # every core of the two given
+    assert all("priority: 1" in block for block in relax.values())
+    figures = _jobs(result.stdout, "figures")
+    assert figures and not any("priority:" in block for block in figures.values())
+
+
 def bad_config(tmp_path: Path, mutate) -> Path:
     config = yaml.safe_load((ROOT / "config/ci.yaml").read_text())
     mutate(config)
