@@ -207,6 +207,27 @@ BUGS = [
         "            pass",
         "tests/test_chart.py -k warm",
     ),
+    Bug(
+        "relax reserves two cores again",
+        "workflow/rules/relax.smk",
+        "    threads: relax_threads",
+        "    threads: 2",
+        "tests/test_workflow.py -k threads_its_case_uses",
+    ),
+    Bug(
+        "figures before the design's path",
+        "workflow/rules/common.smk",
+        "CRITICAL = 1",
+        "CRITICAL = 0",
+        "tests/test_workflow.py -k threads_its_case_uses",
+    ),
+    Bug(
+        "a stale factor always tried",
+        "cloth/solvers/linear.py",
+        "        stale = bool(self.krylov) and self.krylov[-1] > KRYLOV_STALE",
+        "        stale = False",
+        "tests/test_linear.py -k stale",
+    ),
 ]
 
 

@@ -7,7 +7,13 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
-from cloth.solvers.krylov import KRYLOV_CHECK, KRYLOV_LIMIT, KRYLOV_PATIENCE, _hopeless
+from cloth.solvers.krylov import (
+    KRYLOV_CHECK,
+    KRYLOV_LIMIT,
+    KRYLOV_PATIENCE,
+    KRYLOV_STALE,
+    _hopeless,
+)
 from cloth.solvers.linear import Reuse
 
 
@@ -45,6 +51,24 @@ def test_a_kept_factor_solves_a_contact_change_to_the_true_residual(release):
     x = reuse.solve(second, rhs)
     assert 0 < reuse.krylov[-1] <= KRYLOV_LIMIT and reuse.krylov.count(0) == 1
     assert np.linalg.norm(second @ x - rhs) <= 1e-8 * np.linalg.norm(rhs)
+
+
+def test_a_factor_whose_last_solve_was_long_is_stale_and_replaced_untried():
+    """After a Krylov solve of more than `KRYLOV_STALE` iterations on the kept factor, the next
+    system is factorised afresh without trying the old factor (a direct solve, 0 iterations,
+    nothing abandoned); after a short one, the kept factor serves."""
+    n = 400
+    chain = stiff_chain(n)
+    contact = held(chain, np.array([50, 200, 333]))
+    rhs = np.random.default_rng(4).normal(size=n)
+    for last, fresh in ((KRYLOV_STALE, False), (KRYLOV_STALE + 1, True)):
+        reuse = Reuse()
+        reuse.rtol = 1e-8
+        reuse.solve(chain, rhs)
+        reuse.krylov.append(last)  # as if the last system had taken ``last`` iterations
+        x = reuse.solve(contact, rhs)
+        assert (reuse.krylov[-1] == 0) is fresh and reuse.abandoned == []
+        assert np.linalg.norm(contact @ x - rhs) <= 1e-8 * np.linalg.norm(rhs)
 
 
 def test_a_factor_that_no_longer_fits_is_replaced():
