@@ -80,6 +80,9 @@ class MeshBody:
         File the mesh came from ('' when built in memory).
     backend : {'igl', 'numpy'}
         Proximity implementation in use.
+    loop_point : (2,) float, m, or None
+        A point inside the part of the body a garment wraps where its rows meet several section
+        loops (an avatar's trunk or leg; `cloth.bodies.sections.follow`); None: the largest.
     """
 
     vertices: NDArray[np.float64]
@@ -87,6 +90,7 @@ class MeshBody:
     source: str = ""
     backend: str = "auto"
     report: MeshReport | None = None
+    loop_point: tuple[float, float] | None = None
     _query: object = field(init=False, repr=False, default=None)
     _trimesh: object = field(init=False, repr=False, default=None)
     _topo: dict | None = field(init=False, repr=False, default=None)

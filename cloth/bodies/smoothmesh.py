@@ -57,6 +57,10 @@ class SmoothMeshBody(ImplicitBody):
         return self.mesh.faces
 
     @property
+    def loop_point(self) -> tuple[float, float] | None:
+        return self.mesh.loop_point
+
+    @property
     def z_range(self) -> tuple[float, float]:
         return self.mesh.z_range
 

@@ -30,7 +30,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from cloth.bodies import Body, hull_polygon, loop_around, polygon_perimeter
-from cloth.bodies.sections import loop_area
+from cloth.bodies.sections import follow, loop_area
 from cloth.case import Case
 from cloth.case.profile import lengthwise_spans
 from cloth.errors import InputError
@@ -87,12 +87,15 @@ def row_hulls(
     loop_point: list[float] | None,
     nodes_per_row: int = 0,
 ) -> list[NDArray[np.float64]]:
-    """Convex hull per row of the body's cross-section: of the loop around ``loop_point``, else
-    of the largest loop where the section has several (arms apart from the torso; logged), else
-    of the one loop. Progress is shown for grids above `PROGRESS_NODES` (`cloth.progress`)."""
+    """Convex hull per row of the body's cross-section: of the loops around ``loop_point`` on
+    every row; else, where rows meet several loops (arms beside the torso, two legs), of the
+    part the garment wraps, followed from the middle row (`cloth.bodies.sections.follow`): the
+    loops around the body's own ``loop_point`` there (an avatar's torso or leg), else the
+    largest; else of the one loop. Progress is shown for grids above `PROGRESS_NODES`
+    (`cloth.progress`)."""
     low, high = body.z_range
-    hulls, several = [], []
     large = len(heights) * nodes_per_row > PROGRESS_NODES
+    sections = []
     for z in progress(
         heights, desc="predeform: row sections", unit="row", show=None if large else False
     ):
@@ -102,27 +105,37 @@ def row_hulls(
                 "garment bottom and top within the body",
                 field="garment",
             )
-        loops = body.sections(float(z))
-        if loop_point is not None:
-            loops = loop_around(loops, loop_point)
-        elif len(loops) > 1:
-            areas = [loop_area(loop) for loop in loops]
-            several.append((float(z), len(loops), max(areas) / sum(areas)))
-            loops = [loops[int(np.argmax(areas))]]
-        hulls.append(hull_polygon(loops))
-    if several:
-        log.warning(
-            "%d of %d rows (%.4g-%.4g m) meet %d section loops; the garment wraps the largest "
-            "(%.0f-%.0f %% of their area); give garment.loop_point to choose another",
-            len(several),
-            len(heights),
-            several[0][0],
-            several[-1][0],
-            max(count for _, count, _ in several),
-            100 * min(s for *_, s in several),
-            100 * max(s for *_, s in several),
-        )
-    return hulls
+        sections.append(body.sections(float(z)))
+    if loop_point is not None:
+        return [hull_polygon(loop_around(loops, loop_point)) for loops in sections]
+    several = [k for k, loops in enumerate(sections) if len(loops) > 1]
+    if not several:
+        return [hull_polygon(loops) for loops in sections]
+    start = len(sections) // 2
+    anchor = getattr(body, "loop_point", None)
+    if anchor is not None:
+        first = loop_around(sections[start], anchor)
+    else:
+        first = [max(sections[start], key=loop_area)]
+    parts = follow(sections, start, first)
+    share = [
+        sum(loop_area(loop) for loop in parts[k]) / sum(loop_area(loop) for loop in sections[k])
+        for k in several
+    ]
+    log.warning(
+        "%d of %d rows (%.4g-%.4g m) meet up to %d section loops; the garment wraps the part "
+        "%s, followed row by row (%.0f-%.0f %% of the section's area); give "
+        "garment.loop_point to choose another",
+        len(several),
+        len(heights),
+        heights[several[0]],
+        heights[several[-1]],
+        max(len(sections[k]) for k in several),
+        "around the body's loop point" if anchor is not None else "of the largest loop",
+        100 * min(share),
+        100 * max(share),
+    )
+    return [hull_polygon(loops) for loops in parts]
 
 
 def wrap(
