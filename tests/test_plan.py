@@ -35,7 +35,7 @@ def test_the_default_sweep_expands_to_every_material_body_and_reduction():
         * len(sweep["reductions"])
         * len(sweep["lengthwise_reductions"])
     )
-    assert len(plan.index) == len(plan.sweep) == len(plan.cases) == count == 16
+    assert len(plan.index) == len(plan.sweep) == len(plan.cases) == count == 32
     assert "powernet__torso_M__r150" in plan.cases
     case = plan.cases["powernet__torso_S__r250"]
     assert case.garment.reduction == 0.25 and case.body.params["size"] == "S"
@@ -43,6 +43,11 @@ def test_the_default_sweep_expands_to_every_material_body_and_reduction():
     plain = [e for e in plan.index if e["lengthwise_reduction"] == 0.0]
     assert [e["reduction"] for e in plain[:4]] == sweep["reductions"]
     assert plan.cases["powernet__torso_S__r250__lw100"].garment.lengthwise_reduction == 0.1
+    # an avatar is the mesh that ships, fitted once over every garment's span (0.86-1.22 m)
+    avatar = plan.cases["powernet__avatar_M__r200"].body
+    assert avatar.kind == "mesh" and Path(avatar.option("mesh")).name == "torso_M.ply"
+    assert avatar.option("region") == [0.86, 1.22]
+    assert avatar.option("surface_file") == "results/bodies/avatar_M.surface.nc"
 
 
 def test_names_of_sweep_cases():
@@ -164,7 +169,7 @@ def test_a_non_finite_config_number_is_refused_but_a_rigid_tissue_modulus_is_not
     config = copy.deepcopy(CONFIG)
     config["sweep"] |= {"tissue_moduli": [float("inf"), 2e4], "tissue_thickness": 0.01}
     plan = make_plan(config, ROOT)  # .inf: a rigid body (the schema says so)
-    assert sum(case.body.tissue is None for case in plan.cases.values()) == 16
+    assert sum(case.body.tissue is None for case in plan.cases.values()) == len(plan.cases) // 2
 
 
 @pytest.mark.parametrize(
@@ -173,6 +178,8 @@ def test_a_non_finite_config_number_is_refused_but_a_rigid_tissue_modulus_is_not
         (lambda c: c["materials"]["powernet"].update(table="nope.csv"), "materials.powernet.table"),
         (lambda c: c["bodies"].update(scan={"mesh": "data"}), "bodies.scan.mesh"),
         (lambda c: c["bodies"]["torso_M"]["torso"].update(chart="no.csv"), "bodies.torso_M.torso"),
+        (lambda c: c["bodies"]["avatar_M"]["avatar"].update(chart="no.csv"), "bodies.avatar_M"),
+        (lambda c: c["bodies"]["avatar_M"]["avatar"].update(size="XL"), "bodies.avatar_M.avatar"),
     ],
 )
 def test_a_config_file_that_is_not_there_is_named_before_any_job(

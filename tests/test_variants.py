@@ -31,7 +31,9 @@ def test_a_sweep_over_variants_names_and_builds_every_case():
         worn=[False, True],
     )
     plan = make_plan(config, ROOT)
-    assert len(plan.index) == 16 * 2 * 2 * 2  # the default sweeps two lengthwise reductions
+    plain = len(config["sweep"]["bodies"]) * len(config["sweep"]["reductions"])
+    # the default sweeps two lengthwise reductions; three variant axes of two values each
+    assert len(plan.index) == plain * 2 * 2 * 2 * 2
     assert "powernet__torso_M__r150" in plan.cases  # the default variant keeps its name
     name = "powernet__torso_M__r150__tissue20000__mu040__worn__lw100"
     case = plan.cases[name]

@@ -184,6 +184,34 @@ def test_tiny_pipeline_end_to_end(tiny_run):
     assert "Nothing to be done" in again.stdout + again.stderr
 
 
+def test_the_tiny_pipeline_wears_the_garment_on_an_avatar_at_its_chart_s_lines(tiny_run):
+    """The config's avatar case (torso S's avatar, shipped): its case.yaml names the shipped
+    mesh with the region every garment of the config spans, its one surface file is fitted
+    there, and its girth lines are the chart's at the chart's heights, each a finite, positive
+    band value."""
+    import csv
+
+    from cloth.bodies.torso import read_chart
+
+    where, result, _ = tiny_run
+    assert result.returncode == 0, result.stderr[-3000:]
+    case = yaml.safe_load((where / "results-ci/cases/avatar/case.yaml").read_text())
+    assert Path(case["body"]["mesh"]).name == "torso_S.ply"
+    assert case["body"]["region"] == [0.9, 1.15]
+    heights = read_chart(ROOT / "data/bodies/size_chart.csv")["S"].height
+    with xr.open_dataset(where / "results-ci/cases/avatar/result.nc") as ds:
+        body = json.loads(ds.attrs["body"])
+        assert body["region"] == [0.9, 1.15]
+        assert body["avatar"]["size"] == "S" and body["avatar"]["model"] == "anny"
+        assert Path(body["surface"]["file"]).name == "case-avatar.surface.nc"
+        lines = dict(zip(ds["landmark"].values.tolist(), ds["landmark_height"].values, strict=True))
+    # the garment spans 0.90-1.15 m: the chart's waist (1.04) and underbust (1.15) lines
+    assert lines == {name: heights[name] for name in ("waist", "underbust")}
+    rows = list(csv.DictReader((where / "results-ci/cases/avatar/summary.csv").open()))
+    assert [r["landmark"] for r in rows] == ["waist", "underbust"]
+    assert all(0 < float(r["pressure_mean_Pa"]) < 1e4 for r in rows)
+
+
 def _positions(path: Path) -> np.ndarray:
     with xr.open_dataset(path) as ds:
         return np.stack([ds[c].values for c in ("x", "y", "z")], axis=-1)

@@ -52,7 +52,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from cloth.bodies import denoise, refine
+from cloth.bodies.base import hull_polygon
 from cloth.bodies.mesh import MeshBody
+from cloth.bodies.sections import follow, loop_area, loop_around
 from cloth.bodies.spline import SplineField
 from cloth.bodies.tessellation import FEATURE_ANGLE, crease_spacing
 from cloth.errors import InputError
@@ -80,19 +82,27 @@ SAMPLE_BATCH = 655_360
 FIT_VERSION = 4
 #: Most levels of refinement a case may ask for (each multiplies the faces by 4).
 REFINE_LIMIT = 5
+#: A region (`FitOptions.region`) is widened by this much (m) above, below and around the
+#: part it covers, before the fit's own margin.
+REGION_MARGIN = 0.03
+#: Heights (m) apart at which a region's sections are followed (`region_box`).
+REGION_STEP = 0.005
 
 
 @dataclass(frozen=True)
 class FitOptions:
     """How a mesh's smooth surface is fitted (the ``body`` block's ``smoothing`` and
-    ``spacing``, m, ``refine``, the levels of curved refinement of `cloth.bodies.refine`, and
+    ``spacing``, m, ``refine``, the levels of curved refinement of `cloth.bodies.refine`,
     ``denoise``, whether the vertices are filtered along their normals first,
-    `cloth.bodies.denoise`; None: the defaults of the module docstring)."""
+    `cloth.bodies.denoise`, and ``region``, the heights (bottom, top), m, a garment spans, to
+    which the fit is confined (`region_box`); None: the defaults of the module docstring, and
+    the whole mesh)."""
 
     smoothing: float | None = None
     spacing: float | None = None
     refine: int | None = None
     denoise: bool | None = None
+    region: tuple[float, float] | None = None
 
     def __post_init__(self) -> None:
         for name in ("smoothing", "spacing"):
@@ -112,6 +122,16 @@ class FitOptions:
         if self.denoise is not None and not isinstance(self.denoise, bool | np.bool_):
             raise InputError(
                 f"denoise must be true or false, got {self.denoise!r}", field="body.denoise"
+            )
+        if self.region is not None and not (
+            len(self.region) == 2
+            and all(np.isfinite(self.region))
+            and self.region[0] < self.region[1]
+        ):
+            raise InputError(
+                f"region must be two heights [bottom, top] in m, bottom below top, got "
+                f"{list(self.region)!r}",
+                field="body.region",
             )
 
 
@@ -185,6 +205,9 @@ def mesh_key(mesh: MeshBody, options: FitOptions) -> str:
                 "spacing": options.spacing,
                 "refine": options.refine,
                 "denoise": options.denoise,
+                "region": None if options.region is None else list(options.region),
+                "loop_point": None if mesh.loop_point is None else list(mesh.loop_point),
+                "region_margin": REGION_MARGIN,
                 "version": FIT_VERSION,
                 "defaults": [
                     SMOOTHING_FLOOR,
@@ -205,6 +228,62 @@ def mesh_key(mesh: MeshBody, options: FitOptions) -> str:
         ).encode()
     )
     return digest.hexdigest()
+
+
+def region_box(
+    mesh: MeshBody, region: tuple[float, float]
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """The box ((3,), (3,), m) of the part of ``mesh`` a garment between the heights ``region``
+    wraps, widened by `REGION_MARGIN`: its sections every `REGION_STEP`, followed from the
+    middle height (`cloth.bodies.sections.follow`) from the loops around the mesh's
+    ``loop_point``, else the largest (the torso of a full-body scan, not its arms; one leg).
+    Logged: a full-body scan is fitted there only."""
+    z_low, z_high = mesh.z_range
+    bottom = max(region[0] - REGION_MARGIN, z_low)
+    top = min(region[1] + REGION_MARGIN, z_high)
+    count = max(2, int(np.ceil((top - bottom) / REGION_STEP)) + 1)
+    heights = np.linspace(bottom, top, count)
+    # the outermost heights may graze a cap: keep the rows that cut the mesh
+    sections = []
+    kept = []
+    for z in heights:
+        try:
+            loops = mesh.sections(float(z))
+        except InputError:
+            continue
+        sections.append(loops)
+        kept.append(z)
+    if not sections:
+        raise InputError(
+            f"the mesh has no section between {bottom:.4g} and {top:.4g} m; give body.region "
+            "within the body",
+            mesh.source or None,
+            "body.region",
+        )
+    start = len(sections) // 2
+    if mesh.loop_point is not None:
+        first = loop_around(sections[start], mesh.loop_point)
+    else:
+        first = [max(sections[start], key=loop_area)]
+    parts = follow(sections, start, first)
+    points = np.concatenate([hull_polygon(loops) for loops in parts])
+    low = np.array([*(points.min(axis=0) - REGION_MARGIN), kept[0] - REGION_MARGIN])
+    high = np.array([*(points.max(axis=0) + REGION_MARGIN), kept[-1] + REGION_MARGIN])
+    log.info(
+        "fitting the smooth surface over the part a garment at %.4g-%.4g m wraps: x %.3g-%.3g, "
+        "y %.3g-%.3g, z %.3g-%.3g m (body.region sets the heights; the mesh spans %.3g-%.3g m)",
+        region[0],
+        region[1],
+        low[0],
+        high[0],
+        low[1],
+        high[1],
+        low[2],
+        high[2],
+        z_low,
+        z_high,
+    )
+    return low, high
 
 
 def _signed_distance(vertices: NDArray, faces: NDArray, points: NDArray) -> NDArray:
@@ -248,6 +327,10 @@ def fit_surface(
     clamp = trusted + TRUNCATE * sigma + 4 * h
     low = vertices.min(axis=0) - clamp - 3 * h
     high = vertices.max(axis=0) + clamp + 3 * h
+    if options.region is not None:
+        part_low, part_high = region_box(mesh, options.region)
+        low = np.maximum(low, part_low - clamp - 3 * h)
+        high = np.minimum(high, part_high + clamp + 3 * h)
     coarse_shape = np.ceil((high - low) / (COARSE * h)).astype(int) + 1
     shape = (coarse_shape - 1) * COARSE + 1
     samples = int(np.prod(shape))
@@ -299,7 +382,8 @@ def fit_surface(
     # float32 coefficients (5e-9 m at the clamp) halve the file; the fit uses the rounded ones
     # too, so a surface read from its file is the surface that was fitted, bit for bit
     spline = SplineField(low, h, smoothed.astype(np.float32).astype(np.float64))
-    value, gradient = spline.evaluate(mesh.vertices, order=1)
+    inside = np.all((mesh.vertices >= low + clamp) & (mesh.vertices <= high - clamp), axis=1)
+    value, gradient = spline.evaluate(mesh.vertices[inside], order=1)
     off = value / np.linalg.norm(gradient, axis=1)
     fit = SurfaceFit(
         field=spline,

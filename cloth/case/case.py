@@ -41,7 +41,7 @@ from cloth.case.settings import Settings
 from cloth.case.skin import Contact, Skin, Tissue
 from cloth.errors import InputError
 
-BODY_KINDS = ("mesh", "torso", "leg", "cylinder", "elliptic_cylinder", "cone")
+BODY_KINDS = ("mesh", "avatar", "torso", "leg", "cylinder", "elliptic_cylinder", "cone")
 
 
 @dataclass(frozen=True)

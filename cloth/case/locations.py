@@ -1,11 +1,12 @@
 """The files a case names, and moving a case between folders without breaking them.
 
 A case names files by path: its material (a lab table or a material.nc; a bare name such as
-``powernet`` is a bundled table, not a path), a mesh body's mesh and its smooth surface, and a
-torso's or a leg's size chart. A case file's relative paths resolve against the case file's own
-folder (`cloth.stages.case`), so a case the tool writes stores them relative to the folder it
-is written into (`relocated`): it then runs as written from any working directory, and a folder
-holding the case and its files can be moved as a whole. An absolute path stays absolute.
+``powernet`` is a bundled table, not a path), a mesh body's mesh and its smooth surface, a
+torso's or a leg's size chart, and an avatar's chart and mesh. A case file's relative paths
+resolve against the case file's own folder (`cloth.stages.case`), so a case the tool writes
+stores them relative to the folder it is written into (`relocated`): it then runs as written
+from any working directory, and a folder holding the case and its files can be moved as a
+whole. An absolute path stays absolute.
 """
 
 from __future__ import annotations
@@ -22,6 +23,8 @@ PATH_KEYS: tuple[tuple[str, ...], ...] = (
     ("body", "surface_file"),
     ("body", "torso", "chart"),
     ("body", "leg", "chart"),
+    ("body", "avatar", "chart"),
+    ("body", "avatar", "mesh"),
 )
 
 

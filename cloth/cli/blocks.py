@@ -70,8 +70,14 @@ def _convert(action: argparse.Action, key: str, value: Any) -> Any:
         if not isinstance(value, bool):
             raise InputError(f"must be true or false, got {value!r}", "--json", key)
         return value
-    if isinstance(action, argparse._AppendAction) or action.nargs in ("+", "*"):
+    if (
+        isinstance(action, argparse._AppendAction)
+        or action.nargs in ("+", "*")
+        or isinstance(action.nargs, int)
+    ):
         values = value if isinstance(value, list) else [value]
+        if isinstance(action.nargs, int) and len(values) != action.nargs:
+            raise InputError(f"give {action.nargs} values, got {value!r}", "--json", key)
         return [_one(action, key, item) for item in values]
     return _one(action, key, value)
 

@@ -66,7 +66,8 @@ def body_leg(args: argparse.Namespace) -> int:
 def _fit_options(args: argparse.Namespace):  # -> FitOptions, imported when used
     from cloth.bodies.surface import FitOptions
 
-    return FitOptions(args.smoothing, args.spacing, args.refine, args.denoise)
+    region = None if args.region is None else tuple(args.region)
+    return FitOptions(args.smoothing, args.spacing, args.refine, args.denoise, region)
 
 
 def body_check(args: argparse.Namespace) -> int:
@@ -89,12 +90,19 @@ def body_check(args: argparse.Namespace) -> int:
 
 
 def body_fit(args: argparse.Namespace) -> int:
-    from cloth.bodies.mesh import MeshBody
+    from cloth.files.avatar import load_mesh
     from cloth.files.surface import load_or_fit
 
     _required(args, "mesh", "the mesh file, or --json with a mesh body block")
-    mesh = MeshBody.load(args.mesh, args.units, args.up, args.repair, allow_holes=True)
+    mesh, _ = load_mesh(args.mesh, args.units, args.up, args.repair, allow_holes=True)
     load_or_fit(mesh, _fit_options(args), args.output)
+    return 0
+
+
+def body_avatar(args: argparse.Namespace) -> int:
+    from cloth.stages.inputs import avatar_file
+
+    avatar_file(args.chart, args.size, args.output, args.full)
     return 0
 
 

@@ -116,6 +116,14 @@ def _mesh_options(parser: argparse.ArgumentParser) -> None:
         help="filter the vertices along their normals before the fit (default: where they "
         "scatter like noise)",
     )
+    parser.add_argument(
+        "--region",
+        type=float,
+        nargs=2,
+        metavar=("BOTTOM", "TOP"),
+        help="fit only the part of the body a garment between these heights (m) wraps, plus "
+        "3 cm (a full-body scan as given; default: the whole mesh)",
+    )
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -234,6 +242,24 @@ def build_parser() -> argparse.ArgumentParser:
         fit, "a case's mesh body block (docs/config.md)", ("surface", "surface_file", "tissue")
     )
     fit.set_defaults(handler="body_fit")
+    avatar = body_commands.add_parser(
+        "avatar",
+        help="fit a realistic body to a size chart -> FILE.ply and FILE.json (bodies extra)",
+        description="Fit the body model Anny to one size of a torso or leg chart: its stature "
+        "and its tape girths at the chart's heights (docs/bodies.md, 'Avatars'). Writes the "
+        "posed, cropped, watertight mesh (m, z up, floor at 0) and its provenance beside it. "
+        "Needs the extra: pip install 'cloth[bodies]'.",
+    )
+    avatar.add_argument("chart", type=_path, help="torso or leg size chart (CSV, cm)")
+    avatar.add_argument("--size", required=True, help="size name in the chart (e.g. S, M, L)")
+    avatar.add_argument("-o", "--output", type=_path, required=True, help="mesh file (.ply)")
+    avatar.add_argument(
+        "--full",
+        action="store_true",
+        help="the whole body in the model's own A-pose, arms hanging, uncropped (a full-body "
+        "scan as scanners export it; for tests and benchmarks of scans used as given)",
+    )
+    avatar.set_defaults(handler="body_avatar")
 
     pre = commands.add_parser(
         "predeform",

@@ -94,7 +94,7 @@ def body_triangles(record: dict | str, z_low: float, z_high: float) -> Triangles
         if record.get("sha256") and sha256(path) != record["sha256"]:
             log.warning("%s: the body's file changed since the run; drawing without it", path)
             return None
-    if "mesh" in block:
+    if "mesh" in block or "avatar" in block:  # an avatar's record has its mesh's path
         mesh = MeshBody.load(
             path,
             units=block.get("units", "m"),

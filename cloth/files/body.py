@@ -13,22 +13,39 @@ from cloth.bodies.surface import FitOptions
 from cloth.bodies.torso import DEFAULT_CHART, SmoothTorso, chart_size, torso_mesh
 from cloth.bodies.torso import LANDMARKS as TORSO_LANDMARKS
 from cloth.errors import InputError
+from cloth.files.avatar import avatar_mesh, load_mesh
 from cloth.files.surface import smooth_body
 from cloth.io import resolve, sha256
 from cloth.paths import input_file, path_form
 
 
-def body_from_config(block: dict, base_dir: str | Path = ".") -> tuple[Body, dict]:
+def body_from_config(
+    block: dict,
+    base_dir: str | Path = ".",
+    span: tuple[float, float] | None = None,
+    loop_point: tuple[float, float] | None = None,
+) -> tuple[Body, dict]:
     """Build the body of a validated case's ``body`` block.
 
     Returns the body and its reference for state files: the block, plus the resolved path and
-    sha256 of any file it reads.
+    sha256 of any file it reads. A mesh's smooth surface is fitted over its ``region``, else
+    over ``span`` (the garment's bottom and top, m), else over the whole mesh, on the part
+    around ``loop_point`` (the garment's, (x, y) m) where one is given; the reference records
+    both. An ``avatar`` is the mesh it names (`cloth.files.avatar`), and a mesh
+    with an avatar's sidecar takes its girth lines and the point inside the part a garment
+    wraps from it.
     """
     ref: dict = {"block": block}
+    if "avatar" in block:
+        mesh_block = {k: v for k, v in block.items() if k != "avatar"}
+        mesh_block["mesh"] = str(avatar_mesh(block["avatar"], base_dir))
+        body, ref = body_from_config(mesh_block, base_dir, span, loop_point)
+        ref["block"] = block
+        return body, ref
     if "mesh" in block:
         path = input_file(block["mesh"], base_dir, None, "body.mesh", "mesh file")
         smooth = block.get("surface", "smooth") == "smooth"
-        mesh = MeshBody.load(
+        mesh, record = load_mesh(
             path,
             units=block.get("units", "m"),
             up=block.get("up", "z"),
@@ -36,13 +53,24 @@ def body_from_config(block: dict, base_dir: str | Path = ".") -> tuple[Body, dic
             allow_holes=smooth,
         )
         ref.update(kind="mesh", path=str(path), sha256=sha256(path))
+        if record is not None:
+            ref["landmarks"] = {k: float(v) for k, v in record["landmarks"].items()}
+            ref["avatar"] = {k: record.get(k) for k in ("model", "kind", "chart", "size")}
+        if loop_point is not None:
+            mesh.loop_point = (float(loop_point[0]), float(loop_point[1]))
+            ref["loop_point"] = list(mesh.loop_point)
         body: Body = mesh
         if smooth:
+            region = block.get("region") or span
+            if region is not None:
+                region = (float(region[0]), float(region[1]))
+                ref["region"] = list(region)
             options = FitOptions(
                 block.get("smoothing"),
                 block.get("spacing"),
                 block.get("refine"),
                 block.get("denoise"),
+                region,
             )
             surface_file = block.get("surface_file")
             if surface_file is not None:
@@ -91,7 +119,7 @@ def body_from_config(block: dict, base_dir: str | Path = ".") -> tuple[Body, dic
         ref["kind"] = "cone"
     else:
         raise InputError(
-            "no body given; use one of mesh, torso, leg, cylinder, elliptic_cylinder, cone"
+            "no body given; use one of mesh, avatar, torso, leg, cylinder, elliptic_cylinder, cone"
         )
     return body, ref
 
@@ -116,7 +144,8 @@ def body_from_record(record: dict, source: str | Path = "state file") -> Body:
                 source,
                 "body",
             )
-        if "mesh" in block:
+        if "mesh" in block or "avatar" in block:
+            block.pop("avatar", None)
             block["mesh"] = path
         elif "torso" in block:
             block["torso"] = {**block["torso"], "chart": path}
@@ -125,4 +154,9 @@ def body_from_record(record: dict, source: str | Path = "state file") -> Body:
     surface = record.get("surface") or {}
     if "mesh" in block and surface.get("file"):
         block["surface_file"] = surface["file"]
-    return body_from_config(block)[0]
+    region, point = record.get("region"), record.get("loop_point")
+    return body_from_config(
+        block,
+        span=None if region is None else tuple(region),
+        loop_point=None if point is None else tuple(point),
+    )[0]

@@ -21,7 +21,19 @@ from cloth.case import BODY_KINDS, Case
 from cloth.errors import InputError
 from cloth.paths import shown
 
-MESH_ONLY = ("units", "up", "repair", "surface", "smoothing", "spacing", "surface_file", "kind")
+MESH_ONLY = (
+    "units",
+    "up",
+    "repair",
+    "surface",
+    "smoothing",
+    "spacing",
+    "surface_file",
+    "kind",
+    "region",
+)
+#: Of those, the keys an avatar takes too (its mesh is metres, z up, closed, and knows its kind).
+AVATAR_TOO = ("surface", "smoothing", "spacing", "surface_file", "region")
 #: The garment keys that may be a profile (`cloth.case.profile`).
 PROFILE_KEYS = ("reduction", "lengthwise_reduction")
 
@@ -142,9 +154,11 @@ def validate_case(case: Case | dict[str, Any], source: str | Path = "case") -> C
             "body",
         )
     if kinds[0] != "mesh":
-        extra = [key for key in MESH_ONLY if key in body]
+        allowed = AVATAR_TOO if kinds[0] == "avatar" else ()
+        extra = [key for key in MESH_ONLY if key in body and key not in allowed]
         if extra:
-            raise InputError(f"{extra[0]} applies to mesh bodies only; remove it", source, "body")
+            only = "mesh and avatar bodies" if extra[0] in AVATAR_TOO else "mesh bodies"
+            raise InputError(f"{extra[0]} applies to {only} only; remove it", source, "body")
     garment = case["garment"]
     if ("reduction" in garment) == ("circumference" in garment):
         raise InputError(
@@ -177,8 +191,8 @@ def validate_case(case: Case | dict[str, Any], source: str | Path = "case") -> C
         )
     case.setdefault("solver", {})
     _fill_defaults(case_schema(), case)
-    if kinds[0] == "mesh":
-        for key in MESH_ONLY:
+    if kinds[0] in ("mesh", "avatar"):
+        for key in MESH_ONLY if kinds[0] == "mesh" else AVATAR_TOO:
             spec = case_schema()["properties"]["body"]["properties"][key]
             if "default" in spec:
                 body.setdefault(key, spec["default"])

@@ -20,12 +20,14 @@ import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from cloth.bodies.avatar import chart_kind
 from cloth.bodies.leg import DEFAULT_LEG_CHART
 from cloth.bodies.leg import POINTS as LEG_POINTS
 from cloth.bodies.torso import DEFAULT_CHART
 from cloth.bodies.torso import LANDMARKS as TORSO_LANDMARKS
 from cloth.case import Case
 from cloth.errors import InputError
+from cloth.files.avatar import avatar_mesh
 from cloth.paths import input_file
 from cloth.pipeline.config import validate_case
 from cloth.pipeline.layout import DEFAULT, Layout, results_folder
@@ -45,20 +47,50 @@ def data_path(path: str, base: str | Path | None) -> str:
 
 
 def local_body(
-    body: dict, name: str, base: str | Path | None = None, layout: Layout = DEFAULT
+    body: dict,
+    name: str,
+    base: str | Path | None = None,
+    layout: Layout = DEFAULT,
+    span: tuple[float, float] | None = None,
 ) -> dict:
-    """A body block with its files found (`data_path`) and, for a mesh body contacted through
-    its smooth surface (the default), the pipeline's surface file of body ``name`` (in
-    ``layout``)."""
+    """A body block with its files found (`data_path`); an avatar as the mesh it names
+    (`cloth.files.avatar.avatar_mesh`, whose sidecar keeps its girth lines); and, for a mesh
+    body contacted through its smooth surface (the default), the pipeline's surface file of
+    body ``name`` (in ``layout``), fitted over ``region``, else ``span`` (`config_span`: one
+    fit serves every case of the body)."""
     body = dict(body)
+    if "avatar" in body:
+        avatar = dict(body.pop("avatar"))
+        for key in ("chart", "mesh"):
+            if key in avatar:
+                avatar[key] = data_path(avatar[key], base)
+        body["mesh"] = str(avatar_mesh(avatar, base or "."))
     if "mesh" in body:
         body["mesh"] = data_path(body["mesh"], base)
         if body.get("surface", "smooth") == "smooth":
             body = {"surface_file": layout.body_file("surface.nc", name), **body}
+            if span is not None and "region" not in body:
+                body["region"] = [float(span[0]), float(span[1])]
     for kind in ("torso", "leg"):
         if kind in body and "chart" in body[kind]:
             body[kind] = {**body[kind], "chart": data_path(body[kind]["chart"], base)}
     return body
+
+
+def config_span(config: dict) -> tuple[float, float] | None:
+    """The lowest bottom and highest top (m) of every garment the config names (the sweep's,
+    each case's, each profile design's): the region a mesh body's one smooth surface covers."""
+    garments = [(config.get("sweep") or {}).get("garment") or {}]
+    garments += [case.get("garment") or {} for case in (config.get("cases") or {}).values()]
+    garments += [
+        {**garments[0], **(design.get("garment") or {})}
+        for design in (config.get("profile_designs") or {}).values()
+    ]
+    bottoms = [g["bottom"] for g in garments if isinstance(g.get("bottom"), int | float)]
+    tops = [g["top"] for g in garments if isinstance(g.get("top"), int | float)]
+    if not bottoms or not tops:
+        return None
+    return float(min(bottoms)), float(max(tops))
 
 
 def reduction_tag(reduction: float) -> str:
@@ -115,7 +147,11 @@ class Plan:
             bodies = config.get("bodies", {})
             same = [key for key, body in bodies.items() if body == block["body"]]
             block["body"] = local_body(
-                block["body"], same[0] if same else f"case-{name}", self.base, self.layout
+                block["body"],
+                same[0] if same else f"case-{name}",
+                self.base,
+                self.layout,
+                self.span,
             )
         block = dict(block)
         material = block.get("material")
@@ -137,7 +173,9 @@ class Plan:
         sweep = self.config["sweep"]
         block = {
             "material": material,
-            "body": local_body(self.config["bodies"][body], body, self.base, self.layout),
+            "body": local_body(
+                self.config["bodies"][body], body, self.base, self.layout, self.span
+            ),
             "garment": {**sweep["garment"], "reduction": reduction},
             "solver": sweep.get("solver", {}),
         }
@@ -168,8 +206,13 @@ class Plan:
         take as ``--json``."""
         cases = self.config.get("cases", {})
         if name.startswith("case-") and name[5:] in cases:
-            return local_body(cases[name[5:]]["body"], name, self.base, self.layout)
-        return local_body(self.config["bodies"][name], name, self.base, self.layout)
+            return local_body(cases[name[5:]]["body"], name, self.base, self.layout, self.span)
+        return local_body(self.config["bodies"][name], name, self.base, self.layout, self.span)
+
+    @property
+    def span(self) -> tuple[float, float] | None:
+        """The heights every garment of the config spans (`config_span`)."""
+        return config_span(self.config)
 
     def sweep_results(self) -> list[str]:
         """The result file of every sweep case, in the index's order (``cloth sweep``'s)."""
@@ -253,7 +296,7 @@ def profile_design(plan: Plan, name: str) -> ProfileDesign:
     for body in names:
         block = {
             "material": design["material"],
-            "body": local_body(config["bodies"][body], body, plan.base, plan.layout),
+            "body": local_body(config["bodies"][body], body, plan.base, plan.layout, plan.span),
             "garment": {
                 **sweep.get("garment", {}),
                 **design.get("garment", {}),
@@ -289,13 +332,18 @@ def profile_design(plan: Plan, name: str) -> ProfileDesign:
 PARAMETRIC_LINES = {"torso": TORSO_LANDMARKS, "leg": LEG_POINTS}
 
 
-def check_targets(config: dict) -> None:
+def check_targets(config: dict, base: str | Path | None = None) -> None:
     """Targets need one pressure and a girth line the sweep's bodies have (known in advance:
-    the torso's four lines, the leg's measuring points; other bodies get 'middle' or
-    girth_min_N / girth_max_N)."""
+    the torso's four lines, the leg's measuring points, an avatar's chart's; other bodies get
+    'middle' or girth_min_N / girth_max_N)."""
     sweep = config.get("sweep") or {}
     bodies = [config.get("bodies", {}).get(name, {}) for name in sweep.get("bodies", [])]
-    kinds = {next((k for k in PARAMETRIC_LINES if k in body), "other") for body in bodies}
+    kinds = {
+        chart_kind(data_path(body["avatar"].get("chart", str(DEFAULT_CHART)), base))
+        if "avatar" in body
+        else next((k for k in PARAMETRIC_LINES if k in body), "other")
+        for body in bodies
+    }
     known = [line for kind in sorted(kinds - {"other"}) for line in PARAMETRIC_LINES[kind]]
     for number, target in enumerate(config.get("targets", [])):
         where = f"targets.{number}"
@@ -354,7 +402,7 @@ def check_inputs(plan: Plan) -> None:
             input_file(
                 data_path(body["mesh"], plan.base), ".", "config", f"{where}.mesh", "mesh file"
             )
-        for kind in ("torso", "leg"):
+        for kind in ("torso", "leg", "avatar"):
             if "chart" in body.get(kind, {}):
                 input_file(
                     data_path(body[kind]["chart"], plan.base),
@@ -363,6 +411,15 @@ def check_inputs(plan: Plan) -> None:
                     f"{where}.{kind}.chart",
                     "size chart",
                 )
+        if "avatar" in body:
+            avatar = {
+                k: data_path(v, plan.base) if k in ("chart", "mesh") else v
+                for k, v in body["avatar"].items()
+            }
+            try:
+                avatar_mesh(avatar)
+            except InputError as exc:
+                raise InputError(exc.detail, "config", f"{where}.avatar") from None
 
 
 def make_plan(
@@ -376,7 +433,7 @@ def make_plan(
     plan = Plan(config, base, Layout(results_folder(config, config_file)))
     check_inputs(plan)
     _expand_sweep(plan)
-    check_targets(config)
+    check_targets(config, base)
     for name in plan.sweep:
         if name in config.get("cases", {}):
             raise InputError("a case of this name is also in the sweep", "config", f"cases.{name}")

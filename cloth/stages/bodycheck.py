@@ -13,9 +13,9 @@ from pathlib import Path
 
 import numpy as np
 
-from cloth.bodies.mesh import MeshBody
 from cloth.bodies.surface import FitOptions
 from cloth.figures.plots import plot_body_field
+from cloth.files.avatar import load_mesh
 from cloth.files.surface import smooth_body
 
 
@@ -33,7 +33,7 @@ def describe(
     """The check report's lines (and the curvature figure when ``curvature`` is a path); the
     smooth surface is read from ``surface_file`` when that holds it (else from the cache)."""
     smooth = surface == "smooth"
-    body = MeshBody.load(path, units=units, up=up, repair=repair, allow_holes=smooth)
+    body, _ = load_mesh(path, units=units, up=up, repair=repair, allow_holes=smooth)
     report = body.report
     low, high = body.z_range
     lo, hi = body.vertices.min(axis=0), body.vertices.max(axis=0)

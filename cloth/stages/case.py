@@ -49,7 +49,7 @@ def check_fits(stages: tuple[str, ...], case: Case, base_dir: Path, source, forc
 
 
 def _check_record_fits(stage: str, nodes: int, record: dict, source, force: bool) -> None:
-    faces = guard.mesh_faces(record["path"]) if "mesh" in record.get("block", {}) else 0
+    faces = guard.mesh_faces(record["path"]) if record.get("kind") == "mesh" else 0
     guard.check_fits((stage,), nodes, faces, source, force)
 
 
@@ -60,7 +60,8 @@ def initial_state(case: Case | dict, base_dir: str | Path = ".", source: str = "
     case = validate_case(case, source)
     try:
         fabric = load_fabric(case.material, base_dir)
-        body, record = body_from_config(case.body.block, base_dir)
+        span = (case.garment.bottom, case.garment.top)
+        body, record = body_from_config(case.body.block, base_dir, span, case.garment.loop_point)
         return predeform(case, fabric, body, record, source)
     except InputError as exc:  # what the case names or asks for: the case is where to fix it
         if exc.source is not None:

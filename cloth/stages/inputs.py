@@ -1,5 +1,5 @@
 """The input stages: lab tables -> material.nc (`ingest_material`), a size chart -> the torso as
-a mesh (`torso_file`)."""
+a mesh (`torso_file`), the leg (`leg_file`), an avatar fitted to it (`avatar_file`)."""
 
 from __future__ import annotations
 
@@ -7,10 +7,12 @@ import logging
 from collections.abc import Sequence
 from pathlib import Path
 
+from cloth.bodies.avatar import fit_avatar
 from cloth.bodies.leg import DEFAULT_LEG_CHART, leg_mesh, leg_size
 from cloth.bodies.torso import DEFAULT_CHART, chart_size, torso_mesh
 from cloth.errors import InputError
 from cloth.figures.plots import plot_material
+from cloth.files.avatar import avatar_output, write_avatar
 from cloth.files.material import material_dataset
 from cloth.io import atomic_output, write_netcdf
 from cloth.materials.labtables import ingest
@@ -75,6 +77,26 @@ def leg_file(size: str, chart: Path | None, around: int, rings: int, output: Pat
     """The parametric leg of ``size`` in ``chart`` (`cloth.bodies.leg`) as a mesh."""
     spec = leg_size(size, chart or DEFAULT_LEG_CHART)
     _write_mesh(*leg_mesh(spec, around, rings), output, f"leg {spec.name}", spec.girth)
+
+
+def avatar_file(chart: Path, size: str, output: Path, full: bool = False) -> None:
+    """The avatar of ``size`` of the torso or leg chart ``chart`` (`cloth.bodies.avatar`) to
+    ``output`` (PLY) and its provenance beside it (`cloth.files.avatar`); nothing is written
+    where the fit fails. ``full``: the whole body in the model's A-pose, uncropped (a full-body
+    scan as scanners export it). Needs the extra ``bodies``."""
+    avatar_output(output)  # before seconds of fitting
+    avatar = fit_avatar(chart, size, posed=not full)
+    mesh, side = write_avatar(avatar, chart, output, full)
+    log.info(
+        "wrote %s and %s: avatar %s %s, %d evaluations in %.1f s, residuals (mm) %s",
+        mesh,
+        side,
+        avatar.targets.kind,
+        size,
+        avatar.evaluations,
+        avatar.seconds,
+        ", ".join(f"{k} {v * 1e3:+.3f}" for k, v in avatar.residuals().items()),
+    )
 
 
 def _write_mesh(vertices, faces, output: Path, what: str, girth: dict[str, float]) -> None:

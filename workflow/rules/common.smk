@@ -121,7 +121,9 @@ def all_outputs():
     """Every final output of the configured pipeline."""
     bodies = config.get("bodies", {})
     sweep = [body_file("ply", n) for n, b in bodies.items() if "torso" in b]
-    sweep += [body_file("check.txt", n) for n, b in bodies.items() if "mesh" in b]
+    sweep += [
+        body_file("check.txt", n) for n, b in bodies.items() if "mesh" in b or "avatar" in b
+    ]
     if SWEEP_INDEX:
         names = ["sweep.nc", "sweep.csv", "design.png", "sweep_on_body.png"]
         names += ["design_confirmed.csv"] if config.get("targets") else []
