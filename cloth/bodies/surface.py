@@ -239,11 +239,13 @@ def region_box(
     ``loop_point``, else the largest (the torso of a full-body scan, not its arms; one leg).
     Logged: a full-body scan is fitted there only."""
     z_low, z_high = mesh.z_range
-    bottom = max(region[0] - REGION_MARGIN, z_low)
-    top = min(region[1] + REGION_MARGIN, z_high)
+    # strictly inside: a cropped mesh's flat cap is a degenerate section
+    inset = 1e-3 * REGION_STEP
+    bottom = max(region[0] - REGION_MARGIN, z_low + inset)
+    top = min(region[1] + REGION_MARGIN, z_high - inset)
     count = max(2, int(np.ceil((top - bottom) / REGION_STEP)) + 1)
     heights = np.linspace(bottom, top, count)
-    # the outermost heights may graze a cap: keep the rows that cut the mesh
+    # a height may still miss the mesh (a region beside it): keep the rows that cut it
     sections = []
     kept = []
     for z in heights:

@@ -63,7 +63,11 @@ def describe(
         ]
         if curvature is not None:
             centres = body.vertices[body.faces].mean(axis=1)
-            feet = fitted.closest(np.concatenate([body.vertices, centres]))
+            points = np.concatenate([body.vertices, centres])
+            # where the surface was fitted: all of the mesh, or a region's part (not the arms)
+            points = points[fit.field.within(points)]
+            feet = fitted.closest(points)
+            feet = feet[fit.field.within(feet) & np.isfinite(feet).all(axis=1)]
             k1, k2 = fitted.curvature(feet)
             plot_body_field(
                 feet,

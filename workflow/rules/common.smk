@@ -122,7 +122,9 @@ def all_outputs():
     bodies = config.get("bodies", {})
     sweep = [body_file("ply", n) for n, b in bodies.items() if "torso" in b]
     sweep += [
-        body_file("check.txt", n) for n, b in bodies.items() if "mesh" in b or "avatar" in b
+        body_file("check.txt", n)
+        for n, b in bodies.items()
+        if "mesh" in b or "avatar" in b
     ]
     if SWEEP_INDEX:
         names = ["sweep.nc", "sweep.csv", "design.png", "sweep_on_body.png"]
