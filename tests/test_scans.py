@@ -254,3 +254,21 @@ def test_a_full_body_scan_in_mm_and_y_up_relaxes_as_given(tmp_path, monkeypatch)
     assert rows, "no girth line read"
     assert all(np.isfinite(float(r["pressure_mean_Pa"])) for r in rows)
     assert all(float(r["pressure_mean_Pa"]) > 0 for r in rows)
+
+
+def test_body_check_of_a_full_body_fits_and_draws_its_region_only(tmp_path, monkeypatch, capsys):
+    """`cloth body check --region` on the full body: the report's fit is the trunk's between
+    the heights (its grid a fraction of the body's), and the curvature figure draws the fitted
+    part only (sampled where the surface is undefined, the arms' Hessians made it fail)."""
+    from cloth.cli import main
+
+    monkeypatch.setenv("CLOTH_CACHE_DIR", str(tmp_path / "cache"))
+    figure = tmp_path / "curvature.png"
+    args = ["--log-level", "WARNING", "body", "check", str(FULL_BODY), "--units", "mm"]
+    args += ["--up", "y", "--region", "0.9", "1.2", "--smoothing", "0.008", "--spacing", "0.004"]
+    assert main([*args, "--curvature", str(figure)]) == 0
+    report = capsys.readouterr().out
+    assert "smooth surface: sigma 8 mm" in report and figure.stat().st_size > 10_000
+    (surface,) = (tmp_path / "cache" / "surfaces").glob("*.nc")
+    with xr.open_dataset(surface) as ds:
+        assert np.ptp(ds["z"].values) < 0.6 and np.ptp(ds["x"].values) < 0.6
