@@ -266,7 +266,11 @@ def _modules():
     try:
         import warp
 
-        warp.config.quiet = True  # anny's skinning initialises warp: no banner on stdout
+        # anny's skinning initialises warp: no banner and no module timings on stdout (warp
+        # 1.19 reads log_level, earlier releases quiet)
+        warp.config.quiet = True
+        if hasattr(warp, "LOG_WARNING"):
+            warp.config.log_level = warp.LOG_WARNING
         _without_stderr(warp.init)  # nor its native warning that no CUDA driver is found
         import anny
         import roma

@@ -340,7 +340,8 @@ def fit_surface(
         raise InputError(
             f"the smooth surface needs {samples:,} grid samples at spacing {h * 1e3:.3g} mm "
             f"(at most {MAX_SAMPLES:,}, about {MAX_SAMPLES * 40 / 2**30:.0f} GiB); set a larger "
-            "spacing (and smoothing), or crop the mesh to the garment's region",
+            "spacing (and smoothing), or give body.region, the heights [bottom, top] a garment "
+            "spans (cloth body fit --region)",
             mesh.source or None,
             "body.spacing",
         )

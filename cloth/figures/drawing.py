@@ -70,11 +70,22 @@ def _resample(ring: NDArray[np.float64], count: int) -> NDArray[np.float64]:
     return np.column_stack([np.interp(t, s, closed[:, c]) for c in range(3)])
 
 
-def crop(vertices: NDArray[np.float64], faces: NDArray[np.int64], z_low: float, z_high: float):
-    """Faces with every vertex between heights ``z_low`` and ``z_high`` (m); unused vertices
+def crop(
+    vertices: NDArray[np.float64],
+    faces: NDArray[np.int64],
+    z_low: float,
+    z_high: float,
+    xy: tuple[NDArray[np.float64], NDArray[np.float64]] | None = None,
+):
+    """Faces with every vertex between heights ``z_low`` and ``z_high`` (m) and, where ``xy``
+    ((2,) low and high corners, m) is given, within that horizontal box; unused vertices
     dropped, faces renumbered."""
-    z = vertices[faces][:, :, 2]
-    faces = faces[np.all((z >= z_low) & (z <= z_high), axis=1)]
+    corners = vertices[faces]
+    keep = np.all((corners[:, :, 2] >= z_low) & (corners[:, :, 2] <= z_high), axis=1)
+    if xy is not None:
+        inside = (corners[:, :, :2] >= xy[0]) & (corners[:, :, :2] <= xy[1])
+        keep &= np.all(inside, axis=(1, 2))
+    faces = faces[keep]
     used, inverse = np.unique(faces, return_inverse=True)
     return vertices[used], inverse.reshape(faces.shape).astype(np.int64)
 

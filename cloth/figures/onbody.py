@@ -31,7 +31,7 @@ from matplotlib import cm, colors
 from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 from numpy.typing import NDArray
 
-from cloth.figures.drawing import body_triangles
+from cloth.figures.drawing import body_triangles, crop
 from cloth.figures.plots import save_figure
 
 log = logging.getLogger(__name__)
@@ -283,13 +283,17 @@ def panel_aspect(ds: xr.Dataset, body: tuple[NDArray, NDArray] | None, labels: b
 
 
 def body_band(ds: xr.Dataset) -> tuple[NDArray, NDArray] | None:
-    """The result's body (vertices, faces) from below to above its garment (`BODY_MARGIN`)."""
+    """The result's body (vertices, faces) from below to above its garment and around it
+    (`BODY_MARGIN`): a full body's arms beside the band are left out, so the garment, not the
+    arm span, sets the frame."""
     if "body" not in ds.attrs:
         return None
-    z = ds["z"].values
-    return body_triangles(
-        ds.attrs["body"], float(z.min()) - BODY_MARGIN, float(z.max()) + BODY_MARGIN
-    )
+    points = garment_positions(ds).reshape(-1, 3)
+    low, high = points.min(axis=0) - BODY_MARGIN, points.max(axis=0) + BODY_MARGIN
+    body = body_triangles(ds.attrs["body"], float(low[2]), float(high[2]))
+    if body is None:
+        return None
+    return crop(*body, float(low[2]), float(high[2]), (low[:2], high[:2]))
 
 
 def _colour_bar(fig, axes, norm: colors.Normalize, label: str, values: NDArray) -> None:
