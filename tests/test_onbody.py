@@ -127,3 +127,32 @@ def test_a_sweeps_figures_share_one_colour_range(tmp_path):
     assert p_low == 0.0 and p_high >= float(np.percentile(high, 99)) * (1 - 1e-12)
     top = float(np.percentile(results[1]["stress_weft"], 99))
     assert s_low <= 0.0 < top <= s_high * (1 + 1e-12)
+
+
+def test_the_body_drawn_around_a_garment_on_a_full_body_leaves_the_arms_out():
+    """body_band: the body from below to above the garment and around it (8 cm): on a full
+    body in its A-pose (1.05 m from hand to hand) a band at 0.9-1.2 m keeps the trunk only, so
+    the garment, not the arm span, frames the figure."""
+    import json
+    from pathlib import Path
+
+    import numpy as np
+    import xarray as xr
+
+    from cloth.figures.onbody import BODY_MARGIN, body_band
+    from cloth.io import sha256
+
+    scan = Path(__file__).parent / "data" / "full_body_mm_yup.ply"
+    angle = np.linspace(0, 2 * np.pi, 24, endpoint=False)
+    z = np.linspace(0.9, 1.2, 5)
+    shape = (len(z), len(angle))
+    ring = {"x": 0.15 * np.cos(angle), "y": 0.11 * np.sin(angle) + 0.02}
+    coords = {k: (("row", "col"), np.broadcast_to(v, shape)) for k, v in ring.items()}
+    coords["z"] = (("row", "col"), np.broadcast_to(z[:, None], shape))
+    block = {"mesh": str(scan), "units": "mm", "up": "y"}
+    record = {"block": block, "kind": "mesh", "path": str(scan), "sha256": sha256(scan)}
+    ds = xr.Dataset(coords, attrs={"body": json.dumps(record)})
+    vertices, faces = body_band(ds)
+    assert len(faces) > 500
+    assert vertices[:, 0].max() <= 0.15 + BODY_MARGIN + 1e-9  # not the hands at 0.53 m
+    assert vertices[:, 2].min() >= 0.9 - BODY_MARGIN and vertices[:, 2].max() <= 1.2 + BODY_MARGIN
