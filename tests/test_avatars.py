@@ -99,6 +99,24 @@ def test_an_avatar_of_a_chart_that_ships_none_says_how_to_make_one(tmp_path):
     assert "\n" not in str(error.value)
 
 
+def test_an_avatar_a_user_made_is_given_by_its_mesh_and_needs_its_sidecar(tmp_path):
+    """avatar.mesh: a file cloth body avatar wrote (here a copy of a shipped one, renamed) is
+    used with its sidecar's girth lines; the same mesh without its sidecar is refused."""
+    import shutil
+
+    for suffix in (".ply", ".json"):
+        shutil.copy(SHIPPED / f"leg_M{suffix}", tmp_path / f"mine{suffix}")
+    block = {"avatar": {"size": "M", "mesh": "mine.ply"}}
+    body, ref = body_from_config(block, tmp_path)
+    assert ref["path"] == str(tmp_path / "mine.ply") and set(ref["landmarks"]) >= {"B", "G"}
+    assert body.loop_point == tuple(
+        json.loads((tmp_path / "mine.json").read_text())["loop_point_m"]
+    )
+    (tmp_path / "mine.json").unlink()
+    with pytest.raises(InputError, match="no avatar sidecar"):
+        body_from_config(block, tmp_path)
+
+
 def test_the_ply_writer_writes_what_trimesh_reads_the_same_bytes_each_time(tmp_path):
     mesh = trimesh.creation.icosphere(2)
     write_ply(mesh.vertices, mesh.faces, tmp_path / "a.ply")
