@@ -17,7 +17,9 @@ body model of 13,718 vertices, fitted by `fit_avatar`:
 - **How.** ``scipy.optimize.least_squares`` (trust region, bounded) over the phenotype's height,
   weight, muscle and proportions (`FITTED_PHENOTYPE`) and MakeHuman's tailoring modifiers
   (`TORSO_MODIFIERS`, `LEG_MODIFIERS`), from the model's average, to `TOLERANCE` on every
-  residual; a girth the model cannot reach is refused in one line with the range it reaches.
+  girth and the stature; of the bodies that have them, the one nearest the average
+  (`REGULARISATION`); a girth the model cannot reach is refused in one line with the range
+  it reaches.
 - **Pose.** The arms are raised `ARM_RAISE_DEG` and the legs spread `LEG_SPREAD_DEG` from the
   model's A-pose, so that the torso's band is clear of the arms up to the armpits (1.27 m on
   torso M) and the legs' sections are apart up to the thighs.
@@ -90,6 +92,12 @@ LEG_MODIFIERS = {
 }
 #: Largest residual (m) of a fitted girth or the stature; the avatar is refused beyond.
 TOLERANCE = 1e-3
+#: Residual (m) per unit of a parameter away from the model's average body. The fit has more
+#: unknowns than targets: without this its answer was one of many bodies with the chart's
+#: girths, picked by round-off (torso M's parameters moved by 0.74 between two builds of the
+#: model's cache); with it, the body nearest the average that has them (the girths move by
+#: about 0.005 mm).
+REGULARISATION = 1e-3
 #: The crop keeps the chart's span plus this much (m) above and below.
 CROP_MARGIN = 0.05
 #: Finite-difference step of the fit (relative, in the parameters' units, 0-1), taken both ways:
@@ -293,7 +301,10 @@ class _Model:
         self.torch = torch
         torch.set_num_threads(1)  # one thread: bit-identical fits, whatever the machine
         start = time.perf_counter()
-        self.model = anny.Anny(local_changes="default")
+        # the phenotype blend shapes as loaded: Anny's default compacts them into a basis by an
+        # SVD whose basis differs with round-off between two builds of its cache (fits then
+        # differed in the last bits); loaded as they are, two caches give the same body
+        self.model = anny.Anny(local_changes="default", phenotype_blendshapes="original")
         log.info(
             "body model Anny %s loaded in %.1f s", anny.__version__, time.perf_counter() - start
         )
@@ -398,13 +409,15 @@ def fit_avatar(chart: str | Path, size: str, posed: bool = True) -> Avatar:
         }
         return girth, stature, vertices, heads
 
-    def residual(x: NDArray) -> NDArray:
-        girth, stature, _, _ = measure(x)
-        return np.array([stature - targets.stature, *(girth[n] - targets.girth[n] for n in names)])
-
-    start = time.perf_counter()
     fitted = len(FITTED_PHENOTYPE)
     x0 = np.array([0.5] * fitted + [0.0] * len(groups))
+
+    def residual(x: NDArray) -> NDArray:
+        girth, stature, _, _ = measure(x)
+        misses = [stature - targets.stature, *(girth[n] - targets.girth[n] for n in names)]
+        return np.concatenate([misses, REGULARISATION * (x - x0)])
+
+    start = time.perf_counter()
     low = np.array([0.0] * fitted + [-1.0] * len(groups))
     high = np.array([1.0] * fitted + [1.0] * len(groups))
     solution = least_squares(
