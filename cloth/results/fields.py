@@ -26,10 +26,9 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from cloth.garment.grid import SLIDING, WARP, WEFT, Grid
+from cloth.garment.grid import SLIDING, WARP, WEFT, Grid, node_area
 from cloth.garment.mechanics import SpringState
 from cloth.results.pressure import contact_reaction
-from cloth.garment.grid import node_area
 
 log = logging.getLogger(__name__)
 
@@ -190,7 +189,10 @@ def lab_range_variables(state, strain: NDArray[np.float64]) -> dict:
         direction = label if state.around == "weft" else ("warp" if label == "weft" else "weft")
         log.info(
             "%s springs (the fabric's %s): largest strain %.4g, lab curve measured to %.4g",
-            label, direction, largest, limit,
+            label,
+            direction,
+            largest,
+            limit,
         )
         if np.any(beyond):
             ends = grid.ends[sl][beyond]
@@ -198,7 +200,11 @@ def lab_range_variables(state, strain: NDArray[np.float64]) -> dict:
             log.warning(
                 "%s springs (the fabric's %s) strained up to %.4g, beyond the lab curve's last "
                 "strain %.4g at %d springs: the curve is extrapolated there with its last slope",
-                label, direction, largest, limit, int(beyond.sum()),
+                label,
+                direction,
+                largest,
+                limit,
+                int(beyond.sum()),
             )
         out[f"max_strain_{label}"] = xr.Variable(
             (), largest, {"units": "1", "long_name": f"largest {label} spring strain"}
@@ -207,9 +213,13 @@ def lab_range_variables(state, strain: NDArray[np.float64]) -> dict:
             (), limit, {"units": "1", "long_name": f"last strain of the {label} lab curve"}
         )
     out["beyond_lab_range"] = xr.Variable(
-        ("row", "col"), flag.reshape(grid.m, grid.n),
-        {"units": "1", "long_name": "node with a spring strained beyond the lab curve",
-         "flag_values": np.array([0, 1, 2, 3], np.int8),
-         "flag_meanings": "within weft_beyond warp_beyond both_beyond"},
+        ("row", "col"),
+        flag.reshape(grid.m, grid.n),
+        {
+            "units": "1",
+            "long_name": "node with a spring strained beyond the lab curve",
+            "flag_values": np.array([0, 1, 2, 3], np.int8),
+            "flag_meanings": "within weft_beyond warp_beyond both_beyond",
+        },
     )
     return out

@@ -15,7 +15,6 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-
 #: 1 mmHg in Pa, by its definition: mercury's conventional density 13.5951 g/cm3 x standard
 #: gravity 9.80665 m/s2 x 1 mm = 133.322387415 Pa (rounded to 133.322, a value exactly on a
 #: class edge such as 32 mmHg read as 32.0001 and fell out of its class).

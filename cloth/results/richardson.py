@@ -125,8 +125,9 @@ def observed_order(near: float, far: float, r21: float, r32: float) -> float:
         return low
     if target >= _ratio_of_differences(high, r21, r32):
         return high
-    return float(brentq(lambda p: _ratio_of_differences(p, r21, r32) - target, low, high,
-                        xtol=1e-12))
+    return float(
+        brentq(lambda p: _ratio_of_differences(p, r21, r32) - target, low, high, xtol=1e-12)
+    )
 
 
 def richardson(
@@ -137,7 +138,8 @@ def richardson(
     ratio_coarse: float | None = None,
 ) -> Estimate:
     """The Richardson estimate of ``fine`` from its values on the two coarser levels;
-    ``ratio`` = h_middle / h_fine and ``ratio_coarse`` = h_coarse / h_middle (default: ``ratio``)."""
+    ``ratio`` = h_middle / h_fine and ``ratio_coarse`` = h_coarse / h_middle (default:
+    ``ratio``)."""
     r21, r32 = float(ratio), float(ratio if ratio_coarse is None else ratio_coarse)
     if not all(math.isfinite(v) for v in (fine, middle, coarse)):
         return Estimate.missing(fine, 2)

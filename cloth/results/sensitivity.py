@@ -10,9 +10,10 @@ with lambda_i = -R_i . m_i the body's reaction on node i where it is held (0 els
 `cloth.solvers.common.body_push`: m_i = n_i, or n_h / |n_h|^2 at a sliding edge node), a_i its
 deformed tributary area and w_i the band's weight (the kernel averaged over node i's span of
 height). At an equilibrium P R(x, theta) = 0, the moves its constraints allow (the projector
-P, the body's contact set held fixed, as the Newton step holds it), a change of the pattern moves the garment by dx = M^-1 P dR/dtheta
-dtheta, M the exact constrained Newton matrix (`cloth.solvers.stability.exact_matrix`: the
-stiffness less the contact's curvature term, in the allowed directions). So
+P, the body's contact set held fixed, as the Newton step holds it), a change of the pattern
+moves the garment by dx = M^-1 P dR/dtheta dtheta, M the exact constrained Newton matrix
+(`cloth.solvers.stability.exact_matrix`: the stiffness less the contact's curvature term, in
+the allowed directions). So
 
     dJ/dtheta = partial J/partial theta + mu^T P partial R/partial theta,   M mu = dJ/dx,
 
@@ -46,11 +47,11 @@ import scipy.sparse as sp
 from numpy.typing import NDArray
 
 from cloth.bodies import Body
+from cloth.case.reading import Reading
 from cloth.garment.grid import SLIDING, Grid, node_area
 from cloth.garment.mechanics import operators
 from cloth.garment.predeform import recut
 from cloth.garment.state import State
-from cloth.case.reading import Reading
 from cloth.results.bands import band_weights
 from cloth.results.landmarks import girth_line
 from cloth.solvers.activeset import held_nodes

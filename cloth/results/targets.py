@@ -33,7 +33,8 @@ class Target:
         if not match or not np.isfinite(value) or value <= 0:
             raise InputError(
                 f"{text!r} is not a target; write LINE=PRESSURE with a positive pressure in "
-                "mmHg (default), kPa or Pa, e.g. waist=20 or hip=2.0kPa", field=field,
+                "mmHg (default), kPa or Pa, e.g. waist=20 or hip=2.0kPa",
+                field=field,
             )
         unit = (match.group(3) or "mmHg").lower()
         return cls(match.group(1), value * UNITS[unit])
