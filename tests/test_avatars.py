@@ -163,6 +163,19 @@ def test_a_bad_chart_is_refused_in_one_line_and_nothing_is_written(tmp_path, tex
     assert list(tmp_path.iterdir()) == [chart]
 
 
+def test_without_the_extra_an_avatar_fit_says_which_package_to_install(monkeypatch):
+    import importlib.util
+
+    from cloth.bodies import avatar
+
+    real = importlib.util.find_spec
+    monkeypatch.setattr(
+        importlib.util, "find_spec", lambda name, *a: None if name == "anny" else real(name, *a)
+    )
+    with pytest.raises(InputError, match=r"anny is not installed\): pip install 'cloth\[bodies\]'"):
+        avatar._modules()
+
+
 needs_extra = pytest.mark.skipif(
     importlib.util.find_spec("anny") is None or importlib.util.find_spec("torch") is None,
     reason="the bodies extra (torch, anny) is not installed: make bodies",

@@ -271,7 +271,12 @@ def _without_stderr(call) -> None:
 
 def _modules():
     """torch, roma and anny, or one line saying how to install them."""
+    import importlib.util
+
+    missing = [name for name in ("anny", "torch") if importlib.util.find_spec(name) is None]
     try:
+        if missing:  # name what the user installs, not one of its dependencies
+            raise ImportError(name=missing[0])
         import warp
 
         # anny's skinning initialises warp: no banner and no module timings on stdout (warp
