@@ -130,16 +130,26 @@ class ChartTargets:
     span: tuple[float, float]
 
 
-def chart_kind(chart: str | Path) -> str:
+def _chart_rows(path: Path) -> tuple[list[str], list[dict[str, str]]]:
+    """A chart's columns and its rows by column (its ``#`` comment lines left out), as its
+    readers take them."""
+    import csv
+
+    lines = [line for line in path.read_text().splitlines() if not line.lstrip().startswith("#")]
+    reader = csv.DictReader(lines)
+    rows = list(reader)
+    return [c.strip() for c in reader.fieldnames or []], rows
+
+
+def chart_kind(chart: str | Path, columns: list[str] | None = None) -> str:
     """'torso' or 'leg': a chart's kind, read from its columns (a torso chart has ``bust_cm``,
-    a leg chart ``B_cm``); one line naming the file for a chart of neither kind."""
+    a leg chart ``B_cm``; ``columns``: the chart's, where already read); one line naming the
+    file for a chart of neither kind."""
     path = Path(chart)
-    if not path.is_file():
-        raise InputError("size chart not found; check the path", path)
-    header = next(
-        (line for line in path.read_text().splitlines() if not line.lstrip().startswith("#")), ""
-    )
-    columns = [c.strip() for c in header.split(",")]
+    if columns is None:
+        if not path.is_file():
+            raise InputError("size chart not found; check the path", path)
+        columns = _chart_rows(path)[0]
     if "bust_cm" in columns:
         return "torso"
     if "B_cm" in columns:
@@ -156,12 +166,15 @@ def chart_targets(chart: str | Path, size: str) -> ChartTargets:
     """Size ``size`` of the torso or leg chart ``chart`` (`chart_kind`); one line naming the
     file for a chart of neither kind, an unknown size or a stature past any adult's."""
     path = Path(chart)
-    kind = chart_kind(path)
+    if not path.is_file():
+        raise InputError("size chart not found; check the path", path)
+    columns, rows = _chart_rows(path)
+    kind = chart_kind(path, columns)
     sizes = read_chart(path) if kind == "torso" else read_leg_chart(path)
     if size not in sizes:
         raise InputError(f"unknown size {size!r}; the chart has {', '.join(sizes)}", path, "size")
     spec = sizes[size]
-    stature = _stature(path, size)
+    stature = _stature(rows, path, size)
     if not 1.2 <= stature <= 2.2:
         raise InputError(
             f"size {size}: stature {stature * 100:g} cm is not an adult's; give stature_cm in cm",
@@ -184,12 +197,10 @@ def chart_targets(chart: str | Path, size: str) -> ChartTargets:
     )
 
 
-def _stature(path: Path, size: str) -> float:
-    """A size's ``stature_cm`` (m), `DEFAULT_STATURE` where the chart has no such column."""
-    import csv
-
-    rows = [line for line in path.read_text().splitlines() if not line.lstrip().startswith("#")]
-    for row in csv.DictReader(rows):
+def _stature(rows: list[dict[str, str]], path: Path, size: str) -> float:
+    """A size's ``stature_cm`` (m) from the chart's ``rows``, `DEFAULT_STATURE` where the chart
+    has no such column."""
+    for row in rows:
         if (row.get("size") or "").strip() == size:
             text = (row.get("stature_cm") or "").strip()
             if not text:
@@ -453,7 +464,7 @@ def fit_avatar(chart: str | Path, size: str, posed: bool = True) -> Avatar:
         versions=model.versions,
         posed=posed,
     )
-    _check_reached(avatar, lambda x: measure(x)[0], solution.x, groups, chart)
+    _check_reached(avatar, lambda x: measure(x)[0], solution.x, chart)
     log.info(
         "avatar %s %s: %d evaluations in %.1f s; residuals %s",
         targets.kind,
@@ -465,7 +476,7 @@ def fit_avatar(chart: str | Path, size: str, posed: bool = True) -> Avatar:
     return avatar
 
 
-def _check_reached(avatar: Avatar, girths, x: NDArray, groups: dict, chart) -> None:
+def _check_reached(avatar: Avatar, girths, x: NDArray, chart) -> None:
     """Refuse an avatar with a residual over `TOLERANCE` in one line. Each girth's span is
     what it reaches when each parameter but the height moves from end to end, one at a time,
     from the best fit; the line names the girth whose chart value lies furthest outside its
