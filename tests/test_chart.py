@@ -91,8 +91,9 @@ def stocking(tmp_path_factory) -> Path:
 
 
 def _rows(path: Path) -> list[dict[str, str]]:
+    """A written table's rows, its ``#`` comment lines (a pattern's girth lines) left out."""
     with path.open() as handle:
-        return list(csv.DictReader(handle))
+        return list(csv.DictReader(line for line in handle if not line.startswith("#")))
 
 
 def _lines(result: xr.Dataset) -> dict[str, tuple[float, float]]:

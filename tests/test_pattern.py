@@ -109,8 +109,9 @@ def test_profile_keys_from_yaml_numbers_become_heights():
 
 
 def _rows(path: Path) -> list[dict[str, str]]:
+    """A written table's rows, its ``#`` comment lines (a pattern's girth lines) left out."""
     with path.open() as handle:
-        return list(csv.DictReader(handle))
+        return list(csv.DictReader(line for line in handle if not line.startswith("#")))
 
 
 @pytest.mark.parametrize("cut", ["two-panel", "tube"])
@@ -211,7 +212,18 @@ def test_the_csv_and_svg_say_every_number_where_a_cutter_reads_it(graded, tmp_pa
         folder / "out" / "result.nc", tmp_path / "p.csv", "tube", formats=["csv", "svg"]
     )
     with csv_path.open() as handle:
-        header = next(csv.reader(handle))
+        lines = [line for line in handle if line.startswith("#")]
+        handle.seek(0)
+        header = next(csv.reader(line for line in handle if not line.startswith("#")))
+    # one comment line per girth line in the pattern: its name and cut height in m
+    inside = [
+        (str(n), float(z))
+        for n, z in zip(ds["landmark"].values, ds["landmark_height"].values, strict=True)
+        if ds["cut_height"].values[0] <= z <= ds["cut_height"].values[-1]
+    ]
+    assert inside and [line.split()[3] for line in lines] == [n for n, _ in inside]
+    np.testing.assert_allclose([float(line.split()[4]) for line in lines], [z for _, z in inside])
+    assert all(line.rstrip().endswith(" m") for line in lines)
     assert header == [
         "row",
         "pattern_height_mm",

@@ -87,6 +87,8 @@ class GarmentSpec:
     worn: bool = False
     set_strain: Mapping[str, float] = field(default_factory=lambda: MappingProxyType({}))
     error_estimate: bool = True
+    #: ``pattern``: the block (`cloth.garment.cut`): ``body`` or ``file``, and ``place``.
+    pattern: Mapping[str, Any] | None = None
 
     #: With ``grid: auto`` (`auto` True; ``grid`` is then (0, 0) until predeform chooses the
     #: start): the relative error to refine to, and the largest grid (nodes).
@@ -98,6 +100,11 @@ class GarmentSpec:
     def nodes(self) -> int:
         """The grid's nodes; with ``grid: auto``, the most it may have (`max_nodes`)."""
         return self.max_nodes if self.auto else self.grid[0] * self.grid[1]
+
+    @property
+    def place(self) -> str | None:
+        """The girth line a pattern is placed by (`cloth.garment.cut.placement`), if given."""
+        return None if self.pattern is None else self.pattern.get("place")
 
     @property
     def reduction_profile(self) -> Profile | None:
@@ -135,6 +142,7 @@ class GarmentSpec:
             worn=bool(block.get("worn", False)),
             set_strain=MappingProxyType(dict(block.get("set_strain") or {})),
             error_estimate=bool(block.get("error_estimate", True)),
+            pattern=None if block.get("pattern") is None else MappingProxyType(block["pattern"]),
             auto=auto,
             accuracy=float(block.get("accuracy", 0.01)),
             max_nodes=int(block.get("max_nodes", 100_000)),

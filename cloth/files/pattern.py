@@ -10,6 +10,10 @@ From ``result.nc`` (`cloth.files.result.pattern_variables`), per row j, bottom t
   a tube knitted or cut in one (``--cut tube``, opened along the centre back);
 * ``reduction``: the row's reduction from the body's girth (blank for a rectangle).
 
+Before the table, one comment line per girth line within the pattern: ``# girth line NAME
+HEIGHT m``, its cut height. A case wears the file as its garment (``garment.pattern.file``,
+`cloth.garment.cut`), placed by these lines; readers of the table skip lines starting ``#``.
+
 The outline is the polygon through the rows' half widths either side of a vertical centre
 line, at 1:1 in mm (x across, y up, origin at the bottom row's centre). Each girth line of the
 result is drawn across it at its pattern height (its body height mapped through the rows'
@@ -33,6 +37,7 @@ import xarray as xr
 from numpy.typing import NDArray
 
 from cloth.errors import InputError
+from cloth.garment.cut import LINE_PREFIX
 from cloth.io import atomic_output, read_netcdf
 
 log = logging.getLogger(__name__)
@@ -54,6 +59,8 @@ class Pattern:
     reduction: NDArray[np.float64] | None  # (m,) 1
     lines: tuple[tuple[str, float], ...]  # girth line name, height on the pattern in mm
     cut: str
+    #: girth line name, its cut height (m on the body the rows were cut for)
+    line_heights: tuple[tuple[str, float], ...] = ()
 
     def outline(self) -> NDArray[np.float64]:
         """(2m, 2) float, mm: the closed outline, up the left side and down the right."""
@@ -82,13 +89,16 @@ def pattern_of(result: xr.Dataset, cut: str, source: str | Path = "result.nc") -
     cut_height = (
         result["cut_height"].values if "cut_height" in result else result["z"].values.mean(axis=1)
     )
-    lines = []
+    shift = float(result["cut_height"].attrs.get("shift", 0.0)) if "cut_height" in result else 0.0
+    lines, line_heights = [], []
     if "landmark" in result.coords:
-        for name, z in zip(
+        for name, worn_z in zip(
             result["landmark"].values, result["landmark_height"].values, strict=True
         ):
+            z = float(worn_z) - shift  # on the body the rows were cut for
             if cut_height[0] <= z <= cut_height[-1]:
                 lines.append((str(name), float(np.interp(z, cut_height, height))))
+                line_heights.append((str(name), z))
     reduction = result["row_reduction"].values if "row_reduction" in result else None
     return Pattern(
         height=height,
@@ -98,11 +108,17 @@ def pattern_of(result: xr.Dataset, cut: str, source: str | Path = "result.nc") -
         reduction=reduction,
         lines=tuple(lines),
         cut=cut,
+        line_heights=tuple(line_heights),
     )
 
 
 def write_csv(pattern: Pattern, path: Path) -> Path:
+    """The table (module docstring), after one comment line per girth line, ``# girth line NAME
+    HEIGHT m`` (its cut height), which a case's ``garment.pattern.file`` places the pattern by
+    (`cloth.garment.cut.read_pattern`)."""
     with atomic_output(path) as tmp, tmp.open("w", newline="") as handle:
+        for name, z in pattern.line_heights:
+            handle.write(f"{LINE_PREFIX}{name} {z:.9f} m\n")
         writer = csv.writer(handle)
         writer.writerow(
             [
@@ -121,7 +137,7 @@ def write_csv(pattern: Pattern, path: Path) -> Path:
                 [
                     j,
                     f"{pattern.height[j]:.4f}",
-                    f"{pattern.cut_height[j]:.6f}",
+                    f"{pattern.cut_height[j]:.9f}",
                     f"{pattern.circumference[j]:.4f}",
                     f"{pattern.width[j]:.4f}",
                     reduction,

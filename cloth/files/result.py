@@ -268,7 +268,15 @@ def pattern_variables(state: State) -> dict[str, xr.Variable]:
     }
     cut = state.row_values("cut_height")
     if cut is not None:
-        out["cut_height"] = variable("row", cut, "m", "body height the row was cut for")
+        out["cut_height"] = variable(
+            "row",
+            cut,
+            "m",
+            "body height the row was cut for",
+            shift=float(state.attrs.get("cut_shift", 0.0)),
+            comment="the row's height on the wearer is cut_height + shift (a pattern placed "
+            "by a girth line on a body it was not cut for; 0 on its own body)",
+        )
     reduction = state.row_values("row_reduction")
     if reduction is not None:
         profile = state.case.garment.reduction_profile

@@ -23,17 +23,18 @@ the body surface (contact flag; relaxation keeps it on or outside).
 
 from __future__ import annotations
 
+import json
 import logging
 from dataclasses import replace
 
 import numpy as np
 from numpy.typing import NDArray
 
-from cloth.bodies import Body, hull_polygon, loop_around, polygon_perimeter
+from cloth.bodies import Body, hull_polygon, loop_around
 from cloth.bodies.sections import follow, loop_area
 from cloth.case import Case
-from cloth.case.profile import lengthwise_spans
 from cloth.errors import InputError
+from cloth.garment.cut import NO_PLACEMENT, BodyCut, TableCut, cut_girths, placement
 from cloth.garment.grid import FIXED, FREE, SLIDING, WEFT, Grid, build_grid
 from cloth.garment.state import State, grid_fabric
 from cloth.garment.worn import set_strains
@@ -157,6 +158,19 @@ def wrap(
 START_AROUND = 12
 
 
+def row_girths(
+    body: Body, hulls: list[NDArray], heights: NDArray, loop_point: tuple[float, float] | None
+) -> NDArray[np.float64]:
+    """(m,) float, m: the rows' convex-hull girths; without a loop point, the body's own hull
+    girth where the row meets one loop (exact for closed forms)."""
+    hull_girth = cut_girths(hulls)
+    if loop_point is None:
+        whole = np.array([body.girth(float(z))[1] for z in heights])
+        one_loop = np.isclose(whole, hull_girth, rtol=1e-3)  # else: the largest of several
+        hull_girth = np.where(one_loop, whole, hull_girth)
+    return hull_girth
+
+
 def start_grid(body: Body, bottom: float, top: float) -> tuple[int, int]:
     """The coarsest grid of ``grid: auto``: `START_AROUND` nodes around, and rows as far apart
     as the nodes are around the body's girth halfway up (square cells; at least 3 rows)."""
@@ -172,6 +186,7 @@ def predeform(
     body_record: dict,
     source: str = "case",
     grid: tuple[int, int] | None = None,
+    pattern: BodyCut | TableCut | None = None,
 ) -> State:
     """Build the initial state of a case: pattern, wrapped positions, constraints. Reads no file.
 
@@ -191,32 +206,43 @@ def predeform(
     grid : (int, int), optional
         Nodes around and rows, instead of the case's (a coarser level of its error estimate,
         a step of ``grid: auto``); with ``grid: auto`` and none given, `start_grid`.
+    pattern : BodyCut or TableCut, optional
+        The garment's pattern (`cloth.garment.cut`); needed where the case gives
+        ``garment.pattern`` (`cloth.stages.case.case_cut`); default the case's own graded
+        pattern on ``body``.
     """
     garment = case.garment
     body_ref = dict(body_record)
     if grid is None:
         grid = start_grid(body, garment.bottom, garment.top) if garment.auto else garment.grid
     n, m = grid
-    heights = np.linspace(garment.bottom, garment.top, m)
+    cut_heights = np.linspace(garment.bottom, garment.top, m)
+    marks = {**body_record.get("landmarks", {}), **case.landmarks}
+    if pattern is None:
+        if garment.pattern is not None:
+            raise ValueError("a case with a pattern needs its cut (cloth.stages.case.case_cut)")
+        pattern = BodyCut(body, garment, body_record.get("landmarks", {}), case.landmarks)
+    place, shift = NO_PLACEMENT, 0.0
+    if garment.pattern is not None:
+        place, shift = placement(garment.place, pattern.lines, marks, source)
+        log.info(
+            "predeform: the pattern placed by %s, its cut heights shifted by %+.4g m",
+            "its cut frame" if place == NO_PLACEMENT else f"girth line {place}",
+            shift,
+        )
+    heights = cut_heights + shift if shift else cut_heights
     log.info("predeform: %s nodes (%d x %d) on the body", f"{n * m:,}", n, m)
     hulls = row_hulls(body, heights, garment.loop_point, n)
-    hull_girth = np.array([polygon_perimeter(h) for h in hulls])
-    if garment.loop_point is None:  # the body's own hull girth: exact for closed forms
-        whole = np.array([body.girth(float(z))[1] for z in heights])
-        one_loop = np.isclose(whole, hull_girth, rtol=1e-3)  # else: the largest of several
-        hull_girth = np.where(one_loop, whole, hull_girth)
-    marks = {**body_record.get("landmarks", {}), **case.landmarks}
-    profile = garment.reduction_profile
-    try:
-        spans = lengthwise_spans(garment.lengthwise_profile, heights, marks)
-        if profile is not None:
-            row_reduction = profile.evaluate(heights, marks)
-            circumference = (1.0 - row_reduction) * hull_girth
-        else:
-            circumference = np.full(m, float(garment.circumference))
-    except InputError as exc:
-        raise InputError(exc.detail, source, exc.field) from None
-    rest_v = np.concatenate(([0.0], np.cumsum(spans)))
+    hull_girth = row_girths(body, hulls, heights, garment.loop_point)
+    if isinstance(pattern, BodyCut):
+        cut_girth = hull_girth
+        if pattern.body is not body or shift:
+            cut_hulls = row_hulls(pattern.body, cut_heights, garment.loop_point, n)
+            cut_girth = row_girths(pattern.body, cut_hulls, cut_heights, garment.loop_point)
+        rows = pattern.rows(cut_heights, cut_girth, source)
+    else:
+        rows = pattern.rows(cut_heights, source)
+    circumference, rest_v, row_reduction = rows.circumference, rows.rest_v, rows.reduction
     moduli = garment.moduli
     around = garment.around
     worn = set_strains(garment, fabric, source)
@@ -274,11 +300,25 @@ def predeform(
         attrs={
             "offset": offset,
             "hull_girth": hull_girth.tolist(),
-            "cut_height": heights.tolist(),
-            **({} if profile is None else {"row_reduction": row_reduction.tolist()}),
+            "cut_height": cut_heights.tolist(),
+            "cut_shift": shift,
+            **({} if garment.pattern is None else {"cut_lines": json.dumps(_marks(pattern))}),
+            **({} if row_reduction is None else {"row_reduction": row_reduction.tolist()}),
+            **({} if rows.cut_girth is None else {"cut_girth": rows.cut_girth.tolist()}),
+            **_table_attr(pattern),
             **{f"set_strain_{d}": s for d, s in worn.items()},
         },
     )
+
+
+def _table_attr(pattern: BodyCut | TableCut) -> dict[str, str]:
+    """A pattern file's rows for the state (`cloth.stages.cuts.state_cut`); none for a cut."""
+    return {"pattern_table": json.dumps(pattern.to_attr())} if isinstance(pattern, TableCut) else {}
+
+
+def _marks(pattern: BodyCut | TableCut) -> dict[str, float]:
+    """The girth lines a pattern's reduction profile is evaluated at (cut heights, m)."""
+    return {**pattern.lines, **getattr(pattern, "extra", {})}
 
 
 def recut(state: State, row_reduction: NDArray[np.float64]) -> Grid:
@@ -309,6 +349,8 @@ def with_profile(state: State, values: NDArray[np.float64]) -> State:
     garment = state.case.garment
     profile = garment.reduction_profile.with_values(np.asarray(values, dtype=float))
     marks = {**state.body.get("landmarks", {}), **state.case.landmarks}
+    if "cut_lines" in state.attrs:  # a pattern cut for another body: its girth lines
+        marks = json.loads(state.attrs["cut_lines"])
     rows = profile.evaluate(state.row_values("cut_height"), marks)
     data = state.case.to_dict()
     data["garment"]["reduction"] = profile.to_block()

@@ -145,22 +145,30 @@ def validate_case(case: Case | dict[str, Any], source: str | Path = "case") -> C
     )
     if errors:
         raise InputError(schema_message(errors[0]), source, _key_path(errors[0]))
-    body = case["body"]
-    kinds = [kind for kind in BODY_KINDS if kind in body]
-    if len(kinds) != 1:
-        raise InputError(
-            f"give exactly one of {', '.join(BODY_KINDS)} (found {', '.join(kinds) or 'none'})",
-            source,
-            "body",
-        )
-    if kinds[0] != "mesh":
-        allowed = AVATAR_TOO if kinds[0] == "avatar" else ()
-        extra = [key for key in MESH_ONLY if key in body and key not in allowed]
-        if extra:
-            only = "mesh and avatar bodies" if extra[0] in AVATAR_TOO else "mesh bodies"
-            raise InputError(f"{extra[0]} applies to {only} only; remove it", source, "body")
+    kinds = _check_body(case["body"], source, "body")
+    pattern = case["garment"].get("pattern")
+    if pattern is not None:
+        if ("body" in pattern) == ("file" in pattern):
+            raise InputError(
+                "give exactly one of body (the body the pattern is cut for) or file (a "
+                "pattern.csv that cloth pattern wrote)",
+                source,
+                "garment.pattern",
+            )
+        if "body" in pattern:
+            _check_body(pattern["body"], source, "garment.pattern.body")
     garment = case["garment"]
-    if ("reduction" in garment) == ("circumference" in garment):
+    if pattern is not None and "file" in pattern:
+        given = [key for key in ("reduction", "circumference") if key in garment]
+        if garment.get("lengthwise_reduction", 0.0) != 0.0:
+            given.append("lengthwise_reduction")
+        if given:
+            raise InputError(
+                f"a pattern file holds the rows' rest lengths; remove {given[0]}",
+                source,
+                f"garment.{given[0]}",
+            )
+    elif ("reduction" in garment) == ("circumference" in garment):
         raise InputError(
             "give exactly one of reduction (graded pattern) or circumference (rectangle)",
             source,
@@ -191,15 +199,41 @@ def validate_case(case: Case | dict[str, Any], source: str | Path = "case") -> C
         )
     case.setdefault("solver", {})
     _fill_defaults(case_schema(), case)
-    if kinds[0] in ("mesh", "avatar"):
-        for key in MESH_ONLY if kinds[0] == "mesh" else AVATAR_TOO:
+    _body_defaults(case["body"], kinds[0])
+    if pattern is not None and "body" in pattern:
+        _body_defaults(pattern["body"], _check_body(pattern["body"], source, "")[0])
+    return Case.from_dict(case, str(source))
+
+
+def _check_body(body: dict[str, Any], source: str | Path, field: str) -> list[str]:
+    """The kinds of a body block (exactly one, else `InputError` at ``field``), its mesh-only
+    keys checked."""
+    kinds = [kind for kind in BODY_KINDS if kind in body]
+    if len(kinds) != 1:
+        raise InputError(
+            f"give exactly one of {', '.join(BODY_KINDS)} (found {', '.join(kinds) or 'none'})",
+            source,
+            field,
+        )
+    if kinds[0] != "mesh":
+        allowed = AVATAR_TOO if kinds[0] == "avatar" else ()
+        extra = [key for key in MESH_ONLY if key in body and key not in allowed]
+        if extra:
+            only = "mesh and avatar bodies" if extra[0] in AVATAR_TOO else "mesh bodies"
+            raise InputError(f"{extra[0]} applies to {only} only; remove it", source, field)
+    return kinds
+
+
+def _body_defaults(body: dict[str, Any], kind: str) -> None:
+    """A body block's mesh keys: their defaults for a mesh or avatar, none for another kind."""
+    if kind in ("mesh", "avatar"):
+        for key in MESH_ONLY if kind == "mesh" else AVATAR_TOO:
             spec = case_schema()["properties"]["body"]["properties"][key]
             if "default" in spec:
                 body.setdefault(key, spec["default"])
     else:
         for key in MESH_ONLY:
             body.pop(key, None)
-    return Case.from_dict(case, str(source))
 
 
 def _text_keys(case: dict[str, Any]) -> dict[str, Any]:

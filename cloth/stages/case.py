@@ -22,6 +22,7 @@ from cloth.files.levels import level_variables, mark_values
 from cloth.files.material import load_fabric
 from cloth.files.relaxed import relaxed_dataset
 from cloth.files.state import read_state, state_dataset
+from cloth.garment.cut import placement
 from cloth.garment.mechanics import spring_state
 from cloth.garment.predeform import predeform
 from cloth.garment.state import State
@@ -32,6 +33,7 @@ from cloth.results.landmarks import landmark_heights
 from cloth.solvers import Diverged, relax
 from cloth.solvers.problem import Problem
 from cloth.solvers.relax import Result
+from cloth.stages.cuts import case_cut
 from cloth.stages.levels import LEVELS, Level, refine, relax_levels
 from cloth.stages.results import figures, view, write_result
 
@@ -60,9 +62,20 @@ def initial_state(case: Case | dict, base_dir: str | Path = ".", source: str = "
     case = validate_case(case, source)
     try:
         fabric = load_fabric(case.material, base_dir)
-        span = (case.garment.bottom, case.garment.top)
-        body, record = body_from_config(case.body.block, base_dir, span, case.garment.loop_point)
-        return predeform(case, fabric, body, record, source)
+        garment = case.garment
+        span = (garment.bottom, garment.top)
+        body, record = body_from_config(case.body.block, base_dir, span, garment.loop_point)
+        pattern, pattern_record = case_cut(case, base_dir, source)
+        if pattern is not None:  # the wearer's surface over the rows where the pattern sits
+            marks = {**record.get("landmarks", {}), **case.landmarks}
+            shift = placement(garment.place, pattern.lines, marks, source)[1]
+            if shift:
+                span = (garment.bottom + shift, garment.top + shift)
+                body, record = body_from_config(case.body.block, base_dir, span, garment.loop_point)
+        state = predeform(case, fabric, body, record, source, pattern=pattern)
+        if pattern_record is not None:
+            state.attrs["pattern_body"] = json.dumps(pattern_record)
+        return state
     except InputError as exc:  # what the case names or asks for: the case is where to fix it
         if exc.source is not None:
             raise

@@ -23,6 +23,7 @@ from dataclasses import dataclass, replace
 
 from cloth.bodies import Body
 from cloth.case import Settings
+from cloth.garment.cut import BodyCut, TableCut
 from cloth.garment.predeform import predeform
 from cloth.garment.state import State
 from cloth.results.fields import node_fields
@@ -31,6 +32,7 @@ from cloth.results.richardson import estimate_levels
 from cloth.solvers import Diverged, relax
 from cloth.solvers.problem import Evaluation
 from cloth.solvers.relax import Result
+from cloth.stages.cuts import state_cut
 
 log = logging.getLogger(__name__)
 
@@ -82,12 +84,18 @@ def girth_marks(state: State, final: Evaluation, heights: dict[str, float]) -> t
 
 
 def relax_level(
-    state: State, body: Body, settings: Settings, grid: tuple[int, int], heights: dict[str, float]
+    state: State,
+    body: Body,
+    settings: Settings,
+    grid: tuple[int, int],
+    heights: dict[str, float],
+    pattern: BodyCut | TableCut | None = None,
 ) -> Level:
     """``state``'s case on ``grid``: pre-deformed, relaxed (no progress bar) and summarised at
-    ``heights`` (m); a level that diverges has no marks (its estimate says so)."""
+    ``heights`` (m); a level that diverges has no marks (its estimate says so). ``pattern``:
+    the garment's (`cloth.stages.cuts.state_cut`), where the case gives one."""
     start = time.perf_counter()
-    coarse = predeform(state.case, state.fabric, body, state.body, grid=grid)
+    coarse = predeform(state.case, state.fabric, body, state.body, grid=grid, pattern=pattern)
     try:
         result = relax(coarse, body, replace(settings, progress=False))
     except Diverged as failure:
@@ -123,7 +131,8 @@ def relax_levels(
         )
     if len(grids) < 2:  # one level shows no order
         return []
-    return [relax_level(state, body, settings, grid, heights) for grid in grids]
+    pattern = state_cut(state)
+    return [relax_level(state, body, settings, grid, heights, pattern) for grid in grids]
 
 
 @dataclass(frozen=True)
@@ -166,6 +175,7 @@ def refine(start: State, body: Body, settings: Settings, accuracy: float, cap: i
     pass ``cap`` nodes. A grid that diverges ends the refinement on the one before (`Diverged`
     from the first)."""
     runs: list[tuple[State, Result]] = []
+    pattern = state_cut(start)
     state, met, worst, which = start, "node cap", math.inf, "fewer than three grids"
     while True:
         try:
@@ -213,7 +223,7 @@ def refine(start: State, body: Body, settings: Settings, accuracy: float, cap: i
                 100 * accuracy,
             )
             break
-        state = predeform(start.case, start.fabric, body, start.body, grid=(n, m))
+        state = predeform(start.case, start.fabric, body, start.body, grid=(n, m), pattern=pattern)
     state, result = runs[-1]
     heights = landmark_heights(state.with_positions(result.final.x))
     return Refined(state, result, _levels(runs, heights), met, worst)
