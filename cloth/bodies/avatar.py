@@ -120,6 +120,8 @@ class ChartTargets:
     span : (2,) float, m
         The heights a garment on this body can cover: the torso chart's bottom to top, the
         leg's floor to G.
+    ranges : dict, m
+        Girth line -> (low, high) where the chart gives the size's girth as a range.
     """
 
     kind: str
@@ -128,6 +130,8 @@ class ChartTargets:
     height: dict[str, float]
     stature: float
     span: tuple[float, float]
+    #: girth line -> (low, high), m: the girths the size fits, where the chart gives a range
+    ranges: dict[str, tuple[float, float]] = field(default_factory=dict)
 
 
 def _chart_rows(path: Path) -> tuple[list[str], list[dict[str, str]]]:
@@ -194,6 +198,7 @@ def chart_targets(chart: str | Path, size: str) -> ChartTargets:
         height={n: float(spec.height[n]) for n in names},
         stature=stature,
         span=(float(span[0]), float(span[1])),
+        ranges={n: (float(lo), float(hi)) for n, (lo, hi) in spec.girth_range.items()},
     )
 
 
@@ -393,9 +398,15 @@ def leg_side(kind: str, heads: dict[str, NDArray]) -> float:
 def fit_avatar(chart: str | Path, size: str, posed: bool = True) -> Avatar:
     """The avatar of size ``size`` of the torso or leg chart ``chart`` (module docstring);
     ``posed=False``: in the model's own A-pose, arms hanging (a full-body scan's pose)."""
+    return fit_targets(chart_targets(chart, size), chart, posed)
+
+
+def fit_targets(targets: ChartTargets, chart: str | Path, posed: bool = True) -> Avatar:
+    """The avatar with the girths and stature of ``targets`` (one size of ``chart``, or one of
+    its wearers, `cloth.bodies.wearers`); refused in one line naming ``chart`` where the model
+    cannot reach them."""
     from scipy.optimize import least_squares
 
-    targets = chart_targets(chart, size)
     model = _Model(posed)
     if targets.kind == "torso":
         groups = {name: (TORSO_MODIFIERS[name],) for name in TORSO_LANDMARKS}
@@ -468,7 +479,7 @@ def fit_avatar(chart: str | Path, size: str, posed: bool = True) -> Avatar:
     log.info(
         "avatar %s %s: %d evaluations in %.1f s; residuals %s",
         targets.kind,
-        size,
+        targets.size,
         solution.nfev,
         seconds,
         ", ".join(f"{k} {v * 1e3:+.3f} mm" for k, v in avatar.residuals().items()),

@@ -30,6 +30,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.interpolate import BPoly, PchipInterpolator
 
+from cloth.bodies.ranges import girth_cells
 from cloth.bodies.sectioned import SectionedBody, ring_heights, ring_mesh
 from cloth.errors import InputError
 
@@ -51,6 +52,9 @@ class LegChart:
     height: dict[str, float]
     depth_ratio: dict[str, float]
     source: str = "chart"
+    #: point -> (low, high) girth, m, of the legs the size fits, where the chart gives a range
+    #: (`cloth.bodies.ranges`); the girth is then its centre or the value given
+    girth_range: dict[str, tuple[float, float]] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         for point in POINTS:
@@ -109,9 +113,11 @@ def read_leg_chart(path: str | Path = DEFAULT_LEG_CHART) -> dict[str, LegChart]:
                     key,
                 ) from None
 
+        cells = {p: girth_cells(row, p, path, name) for p in POINTS}
         chart = LegChart(
             name=name,
-            girth={p: number_of(f"{p}_cm") / 100 for p in POINTS},
+            girth={p: cells[p][0] / 100 for p in POINTS},
+            girth_range={p: (c[1][0] / 100, c[1][1] / 100) for p, c in cells.items() if c[1]},
             height={p: number_of(f"{p}_height_cm") / 100 for p in POINTS},
             depth_ratio={p: number_of(f"{p}_depth_ratio") for p in POINTS},
             source=str(path),

@@ -46,6 +46,7 @@ from numpy.typing import NDArray
 from scipy.interpolate import PchipInterpolator
 
 from cloth.bodies import sectioned
+from cloth.bodies.ranges import girth_cells
 from cloth.bodies.sectioned import SectionedBody, ring_heights, ring_mesh
 from cloth.errors import InputError
 
@@ -67,6 +68,9 @@ class SizeChart:
     height: dict[str, float]  # landmark (plus bottom, top) -> height, m
     depth_ratio: dict[str, float]  # landmark -> depth / width
     front_share: dict[str, float]  # bust, waist, hip -> share of depth in front
+    #: landmark -> (low, high) girth, m, of the bodies the size fits, where the chart gives a
+    #: range (`cloth.bodies.ranges`); the girth is then its centre or the value given
+    girth_range: dict[str, tuple[float, float]] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         order = ["bottom", *LANDMARKS, "top"]
@@ -90,12 +94,15 @@ def read_chart(path: str | Path = DEFAULT_CHART) -> dict[str, SizeChart]:
     rows = [line for line in path.read_text().splitlines() if not line.lstrip().startswith("#")]
     sizes = {}
     for number, row in enumerate(csv.DictReader(rows), start=1):
+        name = (row.get("size") or f"row {number}").strip()
+        cells = {lm: girth_cells(row, lm, path, name) for lm in LANDMARKS}
         try:
-            cm = {k: float(v) / 100 for k, v in row.items() if k.endswith("_cm")}
+            cm = {k: float(v) / 100 for k, v in row.items() if k.endswith("_height_cm")}
             ratio = {k: float(v) for k, v in row.items() if k.endswith(("_ratio", "_share"))}
             chart = SizeChart(
-                name=row["size"],
-                girth={lm: cm[f"{lm}_cm"] for lm in LANDMARKS},
+                name=name,
+                girth={lm: cells[lm][0] / 100 for lm in LANDMARKS},
+                girth_range={lm: (c[1][0] / 100, c[1][1] / 100) for lm, c in cells.items() if c[1]},
                 height={key: cm[f"{key}_height_cm"] for key in ("bottom", *LANDMARKS, "top")},
                 depth_ratio={lm: ratio[f"{lm}_depth_ratio"] for lm in LANDMARKS},
                 front_share={k: ratio[f"{k}_front_share"] for k in ("bust", "waist", "hip")},

@@ -10,6 +10,7 @@ from __future__ import annotations
 import argparse
 import logging
 from collections.abc import Callable
+from pathlib import Path
 
 from cloth.errors import InputError
 
@@ -103,6 +104,25 @@ def body_avatar(args: argparse.Namespace) -> int:
     from cloth.stages.inputs import avatar_file
 
     avatar_file(args.chart, args.size, args.output, args.full)
+    return 0
+
+
+def body_wearers(args: argparse.Namespace) -> int:
+    from cloth.files.population import AGES
+    from cloth.stages.inputs import wearers_folder
+
+    population = {"default": "default", "none": None}.get(args.population, args.population)
+    if population not in ("default", None):
+        population = Path(population)
+    ages = AGES if args.ages is None else tuple(args.ages)
+    wearers_folder(args.chart, args.size, args.output, population, ages)
+    return 0
+
+
+def wearers(args: argparse.Namespace) -> int:
+    from cloth.stages.wearers import run_wearers
+
+    run_wearers(args.case, args.output, _overrides(args), args.wearers, args.base_dir)
     return 0
 
 

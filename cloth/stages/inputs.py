@@ -7,15 +7,19 @@ import logging
 from collections.abc import Sequence
 from pathlib import Path
 
-from cloth.bodies.avatar import fit_avatar
+from cloth.bodies.avatar import chart_targets, fit_avatar, fit_targets
 from cloth.bodies.leg import DEFAULT_LEG_CHART, leg_mesh, leg_size
 from cloth.bodies.torso import DEFAULT_CHART, chart_size, torso_mesh
+from cloth.bodies.wearers import population_wearers, range_wearers
 from cloth.errors import InputError
 from cloth.figures.plots import plot_material
 from cloth.files.avatar import avatar_output, write_avatar
 from cloth.files.material import material_dataset
+from cloth.files.population import AGES, read_population
+from cloth.files.wearers import DEFAULT_POPULATION, index_record, write_index
 from cloth.io import atomic_output, write_netcdf
 from cloth.materials.labtables import ingest
+from cloth.progress import progress
 
 log = logging.getLogger("cloth")
 
@@ -97,6 +101,54 @@ def avatar_file(chart: Path, size: str, output: Path, full: bool = False) -> Non
         avatar.seconds,
         ", ".join(f"{k} {v * 1e3:+.3f}" for k, v in avatar.residuals().items()),
     )
+
+
+def wearers_folder(
+    chart: Path,
+    size: str,
+    output: Path,
+    population: Path | str | None = "default",
+    ages: tuple[float, float] | None = AGES,
+) -> dict:
+    """The wearers of ``size`` of ``chart`` (`cloth.bodies.wearers`): from ``population`` (a
+    file; ``default``: the shipped survey for a torso chart, none for a leg chart; None: the
+    chart's ranges), each fitted as an avatar into the folder ``output`` with the index
+    (`cloth.files.wearers`), which is written last and returned. A wearer the body model
+    cannot reach is recorded as refused, the others fitted. Needs the extra ``bodies``."""
+    targets = chart_targets(chart, size)
+    if population == "default":
+        population = DEFAULT_POPULATION if targets.kind == "torso" else None
+    if population is not None:
+        people = read_population(population, ages)
+        wearers = population_wearers(
+            targets, targets.ranges, people.measures, people.weight, str(population)
+        )
+        log.info(
+            "size %s: %d people of %s (survey weight %.4g), wearers over %s cover %.1f %% of them",
+            size,
+            wearers.people,
+            population,
+            wearers.weight,
+            ", ".join(wearers.measures),
+            100 * wearers.coverage,
+        )
+    else:
+        wearers = range_wearers(targets, targets.ranges)
+    output.mkdir(parents=True, exist_ok=True)
+    fitted: dict[str, str] = {}
+    for wearer in progress(wearers.wearers, desc=f"wearers of {size}", unit="avatar"):
+        try:
+            avatar = fit_targets(wearer.targets, chart)
+        except InputError as exc:
+            fitted[wearer.name] = f"refused: {exc.detail}"
+            log.warning("wearer %s of size %s: %s", wearer.name, size, exc.detail)
+            continue
+        write_avatar(avatar, chart, output / f"{wearer.name}.ply")
+        fitted[wearer.name] = f"{wearer.name}.ply"
+    record = index_record(wearers, chart, size, population, ages, fitted)
+    write_index(record, output)
+    log.info("wrote %s: %d wearers of size %s", output, len(fitted), size)
+    return record
 
 
 def _write_mesh(vertices, faces, output: Path, what: str, girth: dict[str, float]) -> None:

@@ -1,0 +1,135 @@
+"""A size's wearers as files (issue 52, item 2): one avatar each and an index.
+
+`cloth body wearers CHART --size NAME [--population FILE] -o DIR` writes into ``DIR``:
+
+- ``{wearer}.ply`` and ``{wearer}.json``: each wearer's avatar (`cloth.files.avatar`; the
+  sidecar's ``size`` is ``SIZE/WEARER``, its landmarks the wearer's girth-line heights);
+- ``wearers.json``: the index: the chart (name, sha256) and size, where the wearers come from
+  (``population`` with the file's name, sha256 and the ages kept, or ``ranges``), how many
+  people the size holds and their survey weight, the share the wearers' range covers, and per
+  wearer its mesh, quantiles and targets (girths and stature, m), or why the body model could
+  not reach them (``refused``).
+
+The default charts' wearers ship in ``data/bodies/wearers/{kind}_{size}/`` (the torso's from
+the shipped NHANES population, the leg's from the chart's ranges), found by the chart's and the
+population's sha256 (`shipped_wearers`), so no extra is needed to use them.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+from cloth.bodies.wearers import Wearers
+from cloth.errors import InputError
+from cloth.io import atomic_output, sha256
+
+#: Where the default charts' wearers ship.
+SHIPPED = Path(__file__).resolve().parents[2] / "data" / "bodies" / "wearers"
+#: The default population of the torso chart's wearers.
+DEFAULT_POPULATION = (
+    Path(__file__).resolve().parents[2]
+    / "data"
+    / "bodies"
+    / "population"
+    / "nhanes_2017_2020_women.csv"
+)
+INDEX = "wearers.json"
+FORMAT = 1
+
+
+def index_record(
+    wearers: Wearers,
+    chart: str | Path,
+    size: str,
+    population: str | Path | None,
+    ages: tuple[float, float] | None,
+    fitted: dict[str, str],
+) -> dict:
+    """The index (module docstring); ``fitted``: wearer -> its mesh's file name, or
+    ``refused: ...`` with the reason."""
+    first = wearers.wearers[0].targets
+    return {
+        "cloth_wearers": FORMAT,
+        "kind": first.kind,
+        "chart": Path(chart).name,
+        "chart_sha256": sha256(chart),
+        "size": size,
+        "source": wearers.source,
+        "population": None if population is None else Path(population).name,
+        "population_sha256": None if population is None else sha256(population),
+        "ages": None if population is None or ages is None else list(ages),
+        "people": wearers.people,
+        "weight": wearers.weight,
+        "coverage": round(wearers.coverage, 6),
+        "measures": list(wearers.measures),
+        "wearers": [
+            {
+                "name": w.name,
+                **(
+                    {"refused": fitted[w.name].removeprefix("refused: ")}
+                    if fitted[w.name].startswith("refused: ")
+                    else {"mesh": fitted[w.name]}
+                ),
+                "quantiles": dict(w.quantiles),
+                "girths_m": {k: round(v, 9) for k, v in w.targets.girth.items()},
+                "heights_m": {k: round(v, 9) for k, v in w.targets.height.items()},
+                "stature_m": round(w.targets.stature, 9),
+            }
+            for w in wearers.wearers
+        ],
+    }
+
+
+def write_index(record: dict, folder: str | Path) -> Path:
+    path = Path(folder) / INDEX
+    with atomic_output(path) as tmp:
+        tmp.write_text(json.dumps(record, indent=1, sort_keys=True) + "\n")
+    return path
+
+
+def read_index(folder: str | Path) -> dict:
+    """A wearers folder's index; one line for a folder without one."""
+    path = Path(folder) / INDEX
+    if not path.is_file():
+        raise InputError(
+            f"no {INDEX}: not a wearers folder; write one with cloth body wearers",
+            folder,
+            "wearers",
+        )
+    try:
+        record = json.loads(path.read_text())
+    except (json.JSONDecodeError, UnicodeDecodeError) as exc:
+        raise InputError(f"not JSON ({exc})", path) from None
+    if not isinstance(record, dict) or "cloth_wearers" not in record:
+        raise InputError("not a wearers index; write it with cloth body wearers", path)
+    return record
+
+
+def shipped_wearers(
+    chart: str | Path, size: str, population: str | Path | None = None
+) -> Path | None:
+    """The folder of the shipped wearers of ``size`` of ``chart`` from ``population`` (None:
+    from the chart's ranges), matched by sha256; None where none ship."""
+    digest = sha256(chart)
+    people = None if population is None else sha256(population)
+    for path in sorted(SHIPPED.glob(f"*/{INDEX}")):
+        record = json.loads(path.read_text())
+        if (
+            record.get("chart_sha256") == digest
+            and record.get("size") == size
+            and record.get("population_sha256") == people
+        ):
+            return path.parent
+    return None
+
+
+__all__ = [
+    "DEFAULT_POPULATION",
+    "INDEX",
+    "SHIPPED",
+    "index_record",
+    "read_index",
+    "shipped_wearers",
+    "write_index",
+]

@@ -1,0 +1,374 @@
+"""The wearers of a size (issue 52, items 1, 2 and 4): charts with ranges, a population's
+wearers, the shipped wearers, and one garment run on every wearer."""
+
+from __future__ import annotations
+
+import csv
+import json
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+import trimesh
+import xarray as xr
+import yaml
+
+from cloth.bodies.avatar import chart_targets
+from cloth.bodies.leg import read_leg_chart
+from cloth.bodies.torso import read_chart
+from cloth.bodies.wearers import (
+    MAX_CORNERS,
+    population_wearers,
+    range_wearers,
+    weighted_quantile,
+)
+from cloth.errors import InputError
+from cloth.files.population import read_population
+from cloth.files.wearers import DEFAULT_POPULATION, SHIPPED, shipped_wearers
+from cloth.io import sha256
+from cloth.results.pressure import MMHG
+from tests.test_avatars import tape
+
+ROOT = Path(__file__).resolve().parents[1]
+CHARTS = ROOT / "data" / "bodies"
+TORSO_CHART = CHARTS / "size_chart.csv"
+LEG_CHART = CHARTS / "leg_chart.csv"
+
+
+def _cloth(*args: str, cwd: Path = ROOT) -> subprocess.CompletedProcess:
+    return subprocess.run(
+        [sys.executable, "-m", "cloth", *args], capture_output=True, text=True, cwd=cwd
+    )
+
+
+# --- charts with ranges -------------------------------------------------------------------
+
+
+def test_the_shipped_charts_give_their_control_girths_as_ranges_around_the_size():
+    """The torso chart's bust and hip are EN 13402-3's 4 cm intervals around the size; the leg
+    chart's B and C are ranges around its values; the waist stays one value."""
+    torso = read_chart(TORSO_CHART)
+    for size, bust, hip in (("S", 0.88, 0.96), ("M", 0.96, 1.04), ("L", 1.04, 1.12)):
+        chart = torso[size]
+        assert chart.girth["bust"] == pytest.approx(bust)
+        assert chart.girth_range == {
+            "bust": pytest.approx((bust - 0.02, bust + 0.02)),
+            "hip": pytest.approx((hip - 0.02, hip + 0.02)),
+        }
+    leg = read_leg_chart(LEG_CHART)
+    assert leg["M"].girth_range == {
+        "B": pytest.approx((0.22, 0.24)),
+        "C": pytest.approx((0.34, 0.38)),
+    }
+
+
+def _rewrite(path: Path, old: str, new: str, target: Path) -> Path:
+    """``path``'s chart with the header's and every row's columns edited by ``edit``."""
+    target.write_text(path.read_text().replace(old, new))
+    return target
+
+
+def test_a_girth_given_only_as_a_range_is_its_centre_in_both_formats(tmp_path):
+    text = TORSO_CHART.read_text()
+    lines = [line for line in text.splitlines() if not line.startswith("#")]
+    header = lines[0].split(",")
+    k = header.index("bust_cm")
+    rows = [",".join(c if i != k else "" for i, c in enumerate(r.split(","))) for r in lines[1:]]
+    (tmp_path / "t.csv").write_text("\n".join([lines[0], *rows]) + "\n")
+    assert read_chart(tmp_path / "t.csv")["M"].girth["bust"] == pytest.approx(0.96)
+    leg = LEG_CHART.read_text().replace("S,21,", "S,,")
+    (tmp_path / "l.csv").write_text(leg)
+    chart = read_leg_chart(tmp_path / "l.csv")["S"]
+    assert chart.girth["B"] == pytest.approx(0.21) and chart.girth_range["B"] == pytest.approx(
+        (0.20, 0.22)
+    )
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "field"),
+    [
+        (",86,90,94,98", ",86,,94,98", "bust_max_cm"),  # half a range
+        (",86,90,94,98", ",90,86,94,98", "bust_min_cm"),  # min above max
+        (",86,90,94,98", ",89,90,94,98", "bust_cm"),  # the value outside its range
+        (",86,90,94,98", ",86,x,94,98", "bust_max_cm"),  # not a number
+    ],
+)
+def test_a_malformed_range_is_refused_in_one_line(tmp_path, old, new, field):
+    chart = _rewrite(TORSO_CHART, old, new, tmp_path / "chart.csv")
+    with pytest.raises(InputError) as info:
+        read_chart(chart)
+    assert info.value.field == field and "size S" in str(info.value)
+    done = _cloth(
+        "body", "torso", "--chart", str(chart), "--size", "S", "-o", str(tmp_path / "t.ply")
+    )
+    out = tmp_path / "t.ply"
+    assert done.returncode == 2 and len(done.stderr.strip().splitlines()) == 1
+    assert field in done.stderr and "Traceback" not in done.stderr
+    assert not out.exists()
+
+
+# --- wearers --------------------------------------------------------------------------------
+
+
+def test_the_weighted_quantile_with_equal_weights_is_hazens():
+    values = np.array([3.0, 1.0, 4.0, 1.5, 9.0, 2.6, 5.0])
+    for q in (0.05, 0.3, 0.5, 0.95):
+        expected = np.percentile(values, 100 * q, method="hazen")
+        assert weighted_quantile(values, np.ones(7), q) == pytest.approx(expected)
+    # a weight of 0 leaves the value out
+    assert weighted_quantile(np.array([1.0, 2.0, 100.0]), np.array([1.0, 1.0, 0.0]), 0.5) == 1.5
+
+
+def test_a_populations_wearers_are_its_size_s_quantiles():
+    """Five people; three have a hip in M's 102-106 cm. The centre wearer is their median in
+    waist and stature, each end wearer moves one measure to its 5th / 95th percentile, and the
+    unshared girths stay the chart's; her girth lines scale with her stature."""
+    centre = chart_targets(TORSO_CHART, "M")
+    measures = {
+        "hip": np.array([1.03, 1.05, 1.10, 1.04, 0.95]),
+        "waist": np.array([0.80, 0.90, 1.00, 0.95, 0.70]),
+        "stature": np.array([1.60, 1.70, 1.65, 1.50, 1.60]),
+    }
+    wearers = population_wearers(centre, centre.ranges, measures, np.ones(5))
+    assert wearers.people == 3 and wearers.weight == 3.0
+    assert [w.name for w in wearers.wearers] == [
+        "centre",
+        "hip_p5",
+        "hip_p95",
+        "waist_p5",
+        "waist_p95",
+        "stature_p5",
+        "stature_p95",
+    ]
+    middle = wearers.wearers[0].targets
+    assert middle.girth["waist"] == pytest.approx(0.90) and middle.girth["hip"] == pytest.approx(
+        1.04
+    )
+    assert middle.stature == pytest.approx(1.60)
+    assert middle.girth["bust"] == pytest.approx(0.96)  # the chart's: not in the population
+    assert middle.height["waist"] == pytest.approx(1.04 * 1.60 / 1.68)
+    low = wearers.wearers[3].targets
+    assert low.girth["waist"] == pytest.approx(np.percentile([0.80, 0.90, 0.95], 5, method="hazen"))
+    assert low.stature == pytest.approx(1.60)
+    # with three people Hazen's 5th and 95th percentiles are the extremes: all are covered
+    assert wearers.coverage == pytest.approx(1.0)
+
+
+def test_the_coverage_is_the_share_inside_every_measure_s_range():
+    rng = np.random.default_rng(7)
+    centre = chart_targets(TORSO_CHART, "M")
+    measures = {
+        "hip": rng.uniform(1.02, 1.06, 400),
+        "waist": rng.normal(0.90, 0.06, 400),
+        "stature": rng.normal(1.63, 0.07, 400),
+    }
+    wearers = population_wearers(centre, centre.ranges, measures, np.ones(400))
+    inside = np.ones(400, dtype=bool)
+    for values in measures.values():
+        low, high = np.percentile(values, [5, 95], method="hazen")
+        inside &= (values >= low) & (values <= high)
+    assert wearers.coverage == pytest.approx(inside.mean())
+    assert 0.7 < wearers.coverage < 0.9  # about 0.9 cubed
+
+
+def test_a_chart_s_ranges_give_their_corners_and_centre():
+    centre = chart_targets(LEG_CHART, "M")
+    wearers = range_wearers(centre, centre.ranges)
+    assert len(wearers.wearers) == 1 + 2**2
+    corners = {w.name: (w.targets.girth["B"], w.targets.girth["C"]) for w in wearers.wearers}
+    assert corners["B_min_C_max"] == pytest.approx((0.22, 0.38))
+    assert corners["centre"] == pytest.approx((0.23, 0.36))
+    many = {n: (0.9 * g, 1.1 * g) for n, g in centre.girth.items()}
+    sampled = range_wearers(centre, many)
+    assert len(sampled.wearers) == 1 + MAX_CORNERS
+    for wearer in sampled.wearers[1:]:
+        for name, (low, high) in many.items():
+            assert low <= wearer.targets.girth[name] <= high
+
+
+POPULATIONS = {
+    "no_measure": ("seqn,age_years,exam_weight\n1,30,100\n", "header"),
+    "millimetres": ("waist_cm,hip_cm,height_cm\n800,1040,1630\n", "waist_cm"),
+    "nobody_in_size": ("waist_cm,hip_cm,height_cm\n80,90,163\n", "hip_cm"),
+    "not_a_number": ("waist_cm,hip_cm,height_cm\n80,abc,163\n", "hip_cm"),
+    "no_shared_range": ("waist_cm,height_cm\n80,163\n", "hip_cm"),
+}
+
+
+@pytest.mark.parametrize("name", sorted(POPULATIONS))
+def test_a_malformed_population_is_refused_in_one_line(tmp_path, name):
+    text, column = POPULATIONS[name]
+    (tmp_path / "people.csv").write_text(text)
+    out = tmp_path / "out"
+    done = _cloth(
+        "body",
+        "wearers",
+        str(TORSO_CHART),
+        "--size",
+        "M",
+        "--population",
+        str(tmp_path / "people.csv"),
+        "-o",
+        str(out),
+    )
+    assert done.returncode == 2, done.stderr
+    lines = done.stderr.strip().splitlines()
+    assert len(lines) == 1 and "people.csv" in lines[0] and column in lines[0], lines
+    assert not out.exists()
+
+
+def test_the_shipped_survey_holds_the_sizes_people():
+    """The size's people counted here with numpy from the shipped survey: women aged 18-45,
+    not pregnant, hip within the size's 4 cm range; their weighted median waist."""
+    rows = [
+        r
+        for r in csv.DictReader(
+            line for line in DEFAULT_POPULATION.open() if not line.startswith("#")
+        )
+    ]
+    age = np.array([float(r["age_years"]) for r in rows])
+    hip = np.array([float(r["hip_cm"]) for r in rows])
+    waist = np.array([float(r["waist_cm"]) for r in rows])
+    keep = (age >= 18) & (age <= 45) & np.array([r["pregnant"] != "1" for r in rows])
+    in_m = keep & (hip >= 102) & (hip <= 106)
+    people = read_population(DEFAULT_POPULATION)
+    centre = chart_targets(TORSO_CHART, "M")
+    wearers = population_wearers(centre, centre.ranges, people.measures, people.weight)
+    assert wearers.people == int(in_m.sum())
+    assert 150 <= wearers.people <= 300  # the issue's 221 within 2 cm, from the same survey
+    w = np.array([float(r["exam_weight"]) for r in rows])[in_m]
+    order = np.argsort(waist[in_m])
+    cumulative = np.cumsum(w[order]) - 0.5 * w[order]
+    expected = np.interp(0.5 * w.sum(), cumulative, waist[in_m][order]) / 100
+    assert wearers.wearers[0].targets.girth["waist"] == pytest.approx(expected)
+    assert 0.88 <= expected <= 0.93  # the issue's 90.6 cm
+
+
+# --- the shipped wearers ----------------------------------------------------------------------
+
+INDICES = sorted(SHIPPED.glob("*/wearers.json"))
+
+
+def test_the_default_charts_ship_their_wearers():
+    names = sorted(p.parent.name for p in INDICES)
+    assert names == [f"{k}_{s}" for k in ("leg", "torso") for s in ("L", "M", "S")]
+    for size in ("S", "M", "L"):
+        assert shipped_wearers(TORSO_CHART, size, DEFAULT_POPULATION) is not None
+        assert shipped_wearers(LEG_CHART, size) is not None
+
+
+@pytest.mark.parametrize("index", INDICES, ids=lambda p: p.parent.name)
+def test_every_shipped_wearer_measures_her_targets(index):
+    """Each fitted wearer's mesh, measured here with trimesh's sections at her heights, has her
+    girths within 2 mm; her index belongs to the chart and population as shipped."""
+    record = json.loads(index.read_text())
+    assert record["chart_sha256"] == sha256(CHARTS / record["chart"])
+    if record["population"] is not None:
+        assert record["population_sha256"] == sha256(DEFAULT_POPULATION)
+    fitted = [w for w in record["wearers"] if "mesh" in w]
+    assert fitted and fitted[0]["name"] == "centre"
+    for wearer in fitted:
+        mesh = trimesh.load(index.parent / wearer["mesh"], process=False)
+        assert mesh.is_watertight
+        side = json.loads((index.parent / wearer["mesh"]).with_suffix(".json").read_text())
+        near = np.array(side["loop_point_m"]) if record["kind"] == "leg" else np.zeros(2)
+        for name, target in wearer["girths_m"].items():
+            measured = tape(mesh, wearer["heights_m"][name], near)
+            assert abs(measured - target) <= 2e-3, (wearer["name"], name, measured, target)
+        assert side["landmarks"] == pytest.approx(wearer["heights_m"])
+
+
+# --- one garment on every wearer -----------------------------------------------------------
+
+
+@pytest.fixture(scope="module")
+def leg_wearers(tmp_path_factory):
+    """A stocking cut for the chart's leg S on two of its shipped wearers (a small grid)."""
+    root = tmp_path_factory.mktemp("wearers")
+    source = SHIPPED / "leg_S"
+    folder = root / "two"
+    folder.mkdir()
+    record = json.loads((source / "wearers.json").read_text())
+    record["wearers"] = [w for w in record["wearers"] if w["name"] in ("centre", "B_max_C_min")]
+    for wearer in record["wearers"]:
+        for suffix in (".ply", ".json"):
+            shutil.copy(source / (wearer["name"] + suffix), folder)
+    (folder / "wearers.json").write_text(json.dumps(record))
+    case = {
+        "material": "powernet",
+        "body": {"leg": {"size": "S"}},
+        "garment": {
+            "bottom": 0.09,
+            "top": 0.5,
+            "reduction": 0.16,
+            "lengthwise_reduction": 0.15,
+            "grid": [12, 14],
+            "error_estimate": False,
+        },
+        "judge": {"bands": [{"name": "target", "low_mmHg": 20, "high_mmHg": 30}]},
+        "solver": {"tolerance": 1e-8, "max_iterations": 150},
+    }
+    (root / "case.yaml").write_text(yaml.safe_dump(case))
+    done = _cloth(
+        "wearers", str(root / "case.yaml"), "--wearers", str(folder), "-o", str(root / "out")
+    )
+    assert done.returncode == 0, done.stderr[-2000:]
+    return root
+
+
+def test_each_wearers_pressures_are_a_direct_run_of_her_case_bit_for_bit(leg_wearers):
+    root = leg_wearers
+    with xr.open_dataset(root / "out" / "wearers.nc") as ds:
+        table = ds.load()
+    assert [str(n) for n in table["wearer"].values] == ["size", "centre", "B_max_C_min"]
+    done = _cloth(
+        "run", str(root / "out" / "B_max_C_min" / "case.yaml"), "-o", str(root / "direct")
+    )
+    assert done.returncode == 0, done.stderr[-2000:]
+    with xr.open_dataset(root / "direct" / "result.nc") as direct:
+        for line in table["landmark"].values:
+            if line in direct["landmark"].values:
+                got = float(table["pressure_mean"].sel(wearer="B_max_C_min", landmark=line))
+                assert got == float(direct["pressure_mean"].sel(landmark=line)), line
+
+
+def test_wearers_csv_is_the_range_of_wearers_nc(leg_wearers):
+    """wearers.csv's min, centre and max per line, in mmHg, are the wearers' values in
+    wearers.nc (Pa) read independently, and name the wearer of each extreme."""
+    root = leg_wearers
+    with xr.open_dataset(root / "out" / "wearers.nc") as ds:
+        p = ds["pressure_mean"].load()
+    rows = list(csv.DictReader((root / "out" / "wearers.csv").open()))
+    assert rows and rows[0].keys() >= {
+        "pressure_min_mmHg",
+        "max_wearer",
+        "discretisation_error_mmHg",
+    }
+    for row in rows:
+        values = {
+            w: float(p.sel(wearer=w, landmark=row["landmark"])) / MMHG
+            for w in ("centre", "B_max_C_min")
+        }
+        assert float(row["pressure_min_mmHg"]) == pytest.approx(min(values.values()), abs=1e-4)
+        assert float(row["pressure_max_mmHg"]) == pytest.approx(max(values.values()), abs=1e-4)
+        assert float(row["pressure_centre_mmHg"]) == pytest.approx(values["centre"], abs=1e-4)
+        assert row["max_wearer"] == max(values, key=values.get)
+        size = float(p.sel(wearer="size", landmark=row["landmark"])) / MMHG
+        assert float(row["size_body_mmHg"]) == pytest.approx(size, abs=1e-4)
+    assert (root / "out" / "wearers.png").stat().st_size > 10_000
+    assert (root / "out" / "size" / "summary.csv").is_file()
+
+
+def test_a_body_without_a_size_has_no_wearers(tmp_path):
+    case = {
+        "material": "powernet",
+        "body": {"cylinder": {"radius": 0.1}},
+        "garment": {"bottom": 0.1, "top": 0.4, "reduction": 0.2, "grid": [12, 6]},
+    }
+    (tmp_path / "case.yaml").write_text(yaml.safe_dump(case))
+    done = _cloth("wearers", str(tmp_path / "case.yaml"), "-o", str(tmp_path / "out"))
+    assert done.returncode == 2 and "no size" in done.stderr
+    assert len(done.stderr.strip().splitlines()) == 1 and not (tmp_path / "out").exists()
