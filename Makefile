@@ -19,7 +19,7 @@ export PATH := $(CURDIR)/$(BIN):$(PATH)
 export MPLBACKEND := Agg
 
 .PHONY: run test test-slow test-cluster test-browser test-all lint unit bench clean install mutate \
-	bodies avatars
+	bodies avatars wearers
 
 install: $(STAMP)
 
@@ -57,6 +57,13 @@ avatars: bodies
 	for size in S M L; do \
 		$(BIN)/cloth body avatar data/bodies/size_chart.csv --size $$size -o data/bodies/avatars/torso_$$size.ply && \
 		$(BIN)/cloth body avatar data/bodies/leg_chart.csv --size $$size -o data/bodies/avatars/leg_$$size.ply || exit 1; \
+	done
+
+# the shipped wearers of the default charts' sizes (data/bodies/README.md; tens of minutes)
+wearers: bodies
+	for size in S M L; do \
+		$(BIN)/cloth body wearers data/bodies/size_chart.csv --size $$size -o data/bodies/wearers/torso_$$size && \
+		$(BIN)/cloth body wearers data/bodies/leg_chart.csv --size $$size -o data/bodies/wearers/leg_$$size || exit 1; \
 	done
 
 # large grids, full-size scans, the pipeline killed and resumed, avatars fitted (tens of

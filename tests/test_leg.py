@@ -87,7 +87,7 @@ def _bad_chart(folder: Path, change) -> Path:
 @pytest.mark.parametrize(
     ("change", "words"),
     [
-        (lambda row: row.update(C_cm=""), "size M, point C"),
+        (lambda row: row.update(D_cm=""), "size M, point D"),
         (lambda row: row.update(D_height_cm="30"), "size M, point D"),
         (lambda row: row.update(F_cm="0"), "size M, point F"),
         (lambda row: row.update(C_cm="inf"), "size M, point C"),

@@ -32,6 +32,7 @@ def girth_cells(
     centre where only the range is given) and the range (low, high) or None; `InputError`
     naming the chart, the size and the column where neither is given, half a range, a range
     whose minimum passes its maximum, or a value outside its range."""
+    at = f"size {size}, point {point}"
     value = _number(row, f"{point}_cm")
     low, high = _number(row, f"{point}_min_cm"), _number(row, f"{point}_max_cm")
     for key, number in (
@@ -41,7 +42,9 @@ def girth_cells(
     ):
         if number is not None and not number == number:  # NaN: text that is not a number
             raise InputError(
-                f"size {size}: {key} {row.get(key)!r} is not a number; give it in cm", path, key
+                f"{at}: {key} {row.get(key)!r} is not a number; give it in cm",
+                path,
+                key,
             )
     if (low is None) != (high is None):
         given, missing = (
@@ -50,12 +53,14 @@ def girth_cells(
             else (f"{point}_max_cm", f"{point}_min_cm")
         )
         raise InputError(
-            f"size {size}: {given} without {missing}; a range needs both (cm)", path, missing
+            f"{at}: {given} without {missing}; a range needs both (cm)",
+            path,
+            missing,
         )
     if low is None or high is None:
         if value is None:
             raise InputError(
-                f"size {size}: no {point} girth; give {point}_cm or {point}_min_cm and "
+                f"{at}: no {point} girth; give {point}_cm or {point}_min_cm and "
                 f"{point}_max_cm (cm)",
                 path,
                 f"{point}_cm",
@@ -63,7 +68,7 @@ def girth_cells(
         return value, None
     if not low <= high:
         raise InputError(
-            f"size {size}: {point}_min_cm {low:g} is above {point}_max_cm {high:g}; give the "
+            f"{at}: {point}_min_cm {low:g} is above {point}_max_cm {high:g}; give the "
             "range low to high (cm)",
             path,
             f"{point}_min_cm",
@@ -72,7 +77,7 @@ def girth_cells(
         value = 0.5 * (low + high)
     elif not low <= value <= high:
         raise InputError(
-            f"size {size}: {point}_cm {value:g} is outside its range {low:g}-{high:g} cm; give "
+            f"{at}: {point}_cm {value:g} is outside its range {low:g}-{high:g} cm; give "
             "the size's body within the girths it fits",
             path,
             f"{point}_cm",

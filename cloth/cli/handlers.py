@@ -273,6 +273,21 @@ def design(args: argparse.Namespace) -> int:
             f"must be a positive number of mmHg, got {args.tolerance}", field="--tolerance"
         )
     targets = [Target.parse(text) for text in args.target]
+    if args.wearers is not None:
+        from cloth.stages.wearerdesign import robust_files
+
+        if len(args.input) > 1 or args.sizes is not None:
+            raise InputError("--wearers designs one case's size", field="--wearers")
+        folder = None if args.wearers == "shipped" else Path(args.wearers)
+        robust_files(first, targets, args.output, folder, args.base_dir)
+        return 0
+    bands = [t.line for t in targets if t.band is not None]
+    if bands:
+        raise InputError(
+            f"a band ({bands[0]}=LOW:HIGH) is for a robust design over the wearers; add "
+            "--wearers, or give one pressure",
+            field="--target",
+        )
     options = {"cut": args.cut, "allowance": args.seam_allowance, "paper": args.paper}
     if args.sizes is not None and len(args.input) > 1:
         raise InputError(

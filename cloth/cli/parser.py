@@ -522,7 +522,8 @@ def build_parser() -> argparse.ArgumentParser:
         default=[],
         metavar="LINE=PRESSURE",
         help="with a case: a girth line's mean pressure, in mmHg (default), kPa or Pa, e.g. "
-        "waist=20 or hip=2.0kPa; repeat per line",
+        "waist=20 or hip=2.0kPa, or a band LINE=LOW:HIGH (B=23:32; with --wearers); repeat "
+        "per line",
     )
     de.add_argument(
         "--base-dir",
@@ -541,6 +542,15 @@ def build_parser() -> argparse.ArgumentParser:
         type=_sizes,
         help="with a case on a parametric torso or leg: design these sizes of its chart at "
         "once, e.g. S,M,L, each warm-started from the one before it",
+    )
+    de.add_argument(
+        "--wearers",
+        nargs="?",
+        const="shipped",
+        metavar="DIR",
+        help="with a case: a robust design for every wearer of the case's size (the shipped "
+        "wearers of its chart, or DIR from cloth body wearers): one profile that puts each "
+        "wearer inside every band, --target LINE=LOW:HIGH (docs/outputs.md, 'Robust design')",
     )
     de.add_argument(
         "--cold",

@@ -17,14 +17,33 @@ UNITS = {"mmhg": MMHG, "kpa": 1e3, "pa": 1.0}
 
 @dataclass(frozen=True)
 class Target:
-    """A girth line's target mean pressure, Pa."""
+    """A girth line's target mean pressure, Pa; or a band (``low``, ``high``, Pa), whose
+    centre is ``pressure`` (a robust design puts every wearer inside it)."""
 
     line: str
     pressure: float
+    band: tuple[float, float] | None = None
 
     @classmethod
     def parse(cls, text: str, field: str = "--target") -> Target:
-        """``waist=20`` (mmHg), ``waist=20mmHg``, ``waist=2.6kPa`` or ``waist=2600Pa``."""
+        """``waist=20`` (mmHg), ``waist=20mmHg``, ``waist=2.6kPa`` or ``waist=2600Pa``; a band
+        ``B=23:32`` (low:high, one unit for both, e.g. ``B=3.1:4.3kPa``)."""
+        band = re.fullmatch(
+            r"\s*([^=\s]+)\s*=\s*([-+0-9.eE]+)\s*:\s*([-+0-9.eE]+)\s*(mmHg|kPa|Pa)?\s*", text
+        )
+        if band:
+            try:
+                low, high = float(band.group(2)), float(band.group(3))
+            except ValueError:
+                low = high = float("nan")
+            if not (np.isfinite(low) and np.isfinite(high) and 0 < low < high):
+                raise InputError(
+                    f"{text!r} is not a band; write LINE=LOW:HIGH with 0 < LOW < HIGH in mmHg "
+                    "(default), kPa or Pa, e.g. B=23:32",
+                    field=field,
+                )
+            scale = UNITS[(band.group(4) or "mmHg").lower()]
+            return cls(band.group(1), 0.5 * (low + high) * scale, (low * scale, high * scale))
         match = re.fullmatch(r"\s*([^=\s]+)\s*=\s*([-+0-9.eE]+)\s*(mmHg|kPa|Pa)?\s*", text)
         try:
             value = float(match.group(2)) if match else float("nan")

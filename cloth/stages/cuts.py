@@ -31,9 +31,10 @@ def case_cut(
     return BodyCut(body, garment, record.get("landmarks", {}), case.landmarks), record
 
 
-def state_cut(state: State) -> BodyCut | TableCut | None:
-    """The pattern ``state``'s garment wears, from the state's record (`case_cut`)."""
-    garment = state.case.garment
+def state_cut(state: State, case: Case | None = None) -> BodyCut | TableCut | None:
+    """The pattern ``state``'s garment wears, from the state's record (`case_cut`); with
+    ``case``, that case's garment cut on the same body (a design's new profile)."""
+    garment = (state.case if case is None else case).garment
     if garment.pattern is None:
         return None
     if "pattern_table" in state.attrs:

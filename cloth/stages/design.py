@@ -43,6 +43,7 @@ from cloth.results.targets import Target
 from cloth.solvers.problem import Problem
 from cloth.solvers.relax import Result, relax
 from cloth.solvers.stability import counts
+from cloth.stages.cuts import state_cut
 from cloth.stages.levels import girth_marks
 
 log = logging.getLogger(__name__)
@@ -139,7 +140,16 @@ def _start(state: State, body: Body, targets: list[Target], source: str) -> Stat
     data = state.case.to_dict()
     data["garment"]["reduction"] = {t.line: profile.values[0] for t in targets}
     case = Case.from_dict(data, source)
-    return predeform(case, state.fabric, body, state.body, source)
+    return repredeform(state, case, body, source)
+
+
+def repredeform(state: State, case: Case, body: Body, source: str) -> State:
+    """``case`` pre-deformed on ``state``'s body, wearing ``state``'s pattern where it wears
+    one (cut again with ``case``'s garment), its record kept."""
+    fresh = predeform(case, state.fabric, body, state.body, source, pattern=state_cut(state, case))
+    if "pattern_body" in state.attrs:
+        fresh.attrs["pattern_body"] = state.attrs["pattern_body"]
+    return fresh
 
 
 def _height_lines(state: State, body: Body, targets: list[Target], source: str) -> State:
@@ -152,7 +162,7 @@ def _height_lines(state: State, body: Body, targets: list[Target], source: str) 
         return state
     data = state.case.to_dict()
     data["landmarks"] = {**(data.get("landmarks") or {}), **extra}
-    return predeform(Case.from_dict(data, source), state.fabric, body, state.body, source)
+    return repredeform(state, Case.from_dict(data, source), body, source)
 
 
 def _is_height(text: str) -> bool:
@@ -203,7 +213,7 @@ def design(
     values = np.asarray(state.case.garment.reduction_profile.values, dtype=float)
     result = relax(state, body, settings)
     state = state.with_positions(result.final.x)
-    sens = _sensitivities(state, body, result, lines)
+    sens = line_sensitivities(state, body, result, lines)
     _check_lines(sens, order, lines, state, source)
     solves, iterates, shortfall, uniform = 1, [_iterate(values, sens, result)], None, None
     if not graded:
@@ -226,7 +236,7 @@ def design(
         result = relax(moved, body, settings)
         solves += 1
         state = moved.with_positions(result.final.x)
-        sens = _sensitivities(state, body, result, lines)
+        sens = line_sensitivities(state, body, result, lines)
         iterates.append(_iterate(values, sens, result))
     if not np.all(np.abs(sens.means - goal) <= tolerance):
         shortfall = _shortfall(order, sens, goal, values, tolerance, pinned, upper)
@@ -358,7 +368,7 @@ def _lines_left(jacobian: NDArray, pinned: NDArray[np.bool_]) -> NDArray[np.bool
     return left
 
 
-def _sensitivities(
+def line_sensitivities(
     state: State, body: Body, result: Result, lines: dict[str, float]
 ) -> Sensitivity:
     return sensitivities(state, body, result.final, lines, result.factor)
