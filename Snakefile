@@ -36,6 +36,7 @@ include: "workflow/rules/aggregate.smk"
 include: "workflow/rules/figures.smk"
 include: "workflow/rules/sweep.smk"
 include: "workflow/rules/design.smk"
+include: "workflow/rules/wearers.smk"
 
 
 rule all:

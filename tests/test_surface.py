@@ -182,6 +182,18 @@ def test_bad_meshes_one_line_exit_2_no_output(tmp_path, capsys, name, expected):
     assert not out.exists()
 
 
+def test_body_fit_writes_its_output_when_the_cache_already_holds_the_fit(tmp_path):
+    """The pipeline's body_surface rule asks for its file: a fit read from the cache (another
+    run fitted the same mesh) is written there too, the same surface."""
+    vertices, faces = capped_cylinder(R, 0.3, 24)
+    path = tmp_path / "cyl.obj"
+    write_obj(path, vertices, faces)
+    first, second = tmp_path / "a.nc", tmp_path / "b.nc"
+    assert main(["body", "fit", str(path), "-o", str(first)]) == 0
+    assert main(["body", "fit", str(path), "-o", str(second)]) == 0
+    assert second.is_file() and read_surface(second).key == read_surface(first).key
+
+
 def test_body_check_reports_the_deviation_and_draws_the_curvature(tmp_path, capsys):
     path = write_obj(tmp_path / "cyl.obj", *capped_cylinder(R, 0.3, 48))
     figure = tmp_path / "curvature.png"

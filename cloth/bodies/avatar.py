@@ -132,6 +132,14 @@ class ChartTargets:
     span: tuple[float, float]
     #: girth line -> (low, high), m: the girths the size fits, where the chart gives a range
     ranges: dict[str, tuple[float, float]] = field(default_factory=dict)
+    #: girth lines measured but not fitted: the body model's own, given the others (a wearer's
+    #: girths that neither her population nor the size's ranges set, `cloth.bodies.wearers`)
+    free: tuple[str, ...] = ()
+
+    @property
+    def fitted(self) -> list[str]:
+        """The girth lines the fit matches (all but `free`)."""
+        return [n for n in self.girth if n not in self.free]
 
 
 def _chart_rows(path: Path) -> tuple[list[str], list[dict[str, str]]]:
@@ -262,8 +270,8 @@ class Avatar:
     side: float = 0.0
 
     def residuals(self) -> dict[str, float]:
-        """Avatar minus chart (m): every girth, and the stature."""
-        out = {n: self.girth[n] - self.targets.girth[n] for n in self.targets.girth}
+        """Avatar minus chart (m): every fitted girth, and the stature."""
+        out = {n: self.girth[n] - self.targets.girth[n] for n in self.targets.fitted}
         out["stature"] = self.stature - self.targets.stature
         return out
 
@@ -413,6 +421,7 @@ def fit_targets(targets: ChartTargets, chart: str | Path, posed: bool = True) ->
     else:
         groups = dict(LEG_MODIFIERS)
     names = list(targets.girth)
+    matched = targets.fitted
 
     def unpack(x: NDArray) -> tuple[dict, dict]:
         fitted = len(FITTED_PHENOTYPE)
@@ -441,7 +450,7 @@ def fit_targets(targets: ChartTargets, chart: str | Path, posed: bool = True) ->
 
     def residual(x: NDArray) -> NDArray:
         girth, stature, _, _ = measure(x)
-        misses = [stature - targets.stature, *(girth[n] - targets.girth[n] for n in names)]
+        misses = [stature - targets.stature, *(girth[n] - targets.girth[n] for n in matched)]
         return np.concatenate([misses, REGULARISATION * (x - x0)])
 
     start = time.perf_counter()
@@ -513,7 +522,9 @@ def _check_reached(avatar: Avatar, girths, x: NDArray, chart) -> None:
             trial = x.copy()
             trial[index] = end
             trials.append(girths(trial))
-    span = {n: (min(t[n] for t in trials), max(t[n] for t in trials)) for n in avatar.girth}
+    span = {
+        n: (min(t[n] for t in trials), max(t[n] for t in trials)) for n in avatar.targets.fitted
+    }
     target = avatar.targets.girth
     outside = {n: abs(target[n] - np.clip(target[n], *span[n])) / target[n] for n in span}
     name = max(outside, key=outside.get) if max(outside.values()) > 0 else worst

@@ -82,15 +82,18 @@ def hull_girth(body, z: float, point: ArrayLike, side: float = 0.0) -> float:
     part's section loops (m). An arm beside the torso or the other leg is not in it. ``side``
     (+1 or -1; 0: the whole part): only the part at x * side >= 0, where the section meets the
     plane x = 0 cut off along it: one thigh where the thighs touch, as a tape passed between
-    them measures it. Where no loop encloses ``point`` but the convex hulls of some do (a
-    section shaped like a horseshoe or a ring, the trunk where the thighs part), the tape goes
-    around those: it passes over the gap as it passes over a concavity."""
+    them measures it. Where no loop encloses ``point`` (the trunk where the thighs part: a
+    section shaped like a horseshoe, or two loops either side of it), the tape goes around the
+    loops whose convex hull holds it, else around every loop whose hull with the others'
+    holds it: it passes over the gap as it passes over a concavity."""
     sections = body.sections(float(z))
     try:
         loops = loop_around(sections, point)
     except InputError:
         at = np.asarray(point, dtype=np.float64)[None]
         loops = [loop for loop in sections if inside_convex(at, hull_polygon([loop]))[0]]
+        if not loops and sections and inside_convex(at, hull_polygon(sections))[0]:
+            loops = list(sections)
         if not loops:
             raise
     if side == 0.0:

@@ -17,8 +17,12 @@ avatars (`cloth.bodies.avatar.fit_targets`), one `Wearer` each:
   (``B_min_C_max``, ...): 1 + 2^k wearers. Past `MAX_CORNERS` corners (k > 3) a scrambled
   Sobol sample of `MAX_CORNERS` points of the box (`scipy.stats.qmc`, seed 0) replaces them.
 
-A girth the wearer does not set is the size's own. The wearer's girth lines sit at the chart's
-heights times her stature over the chart's, so a shorter wearer's hip is lower.
+A population's wearer's girths that neither the file nor the size's ranges set (the torso's
+underbust: the survey does not measure it, the chart gives it as one value) are left to the
+body model, its most average body with her other measures (`ChartTargets.free`): the chart's
+value need not go with a waist at the survey's 95th percentile, and the model cannot always
+join them. A range wearer's other girths are the size's own. The wearer's girth lines sit at
+the chart's heights times her stature over the chart's, so a shorter wearer's hip is lower.
 """
 
 from __future__ import annotations
@@ -74,13 +78,19 @@ def weighted_quantile(values: NDArray[np.float64], weights: NDArray[np.float64],
 
 
 def wearer_targets(
-    centre: ChartTargets, girths: Mapping[str, float], stature: float | None, name: str
+    centre: ChartTargets,
+    girths: Mapping[str, float],
+    stature: float | None,
+    name: str,
+    free: tuple[str, ...] = (),
 ) -> ChartTargets:
     """``centre`` (the size's targets) with ``girths`` (m) and ``stature`` (m; None: the
-    size's), its girth-line heights scaled by the stature."""
+    size's), its girth-line heights scaled by the stature, the girths ``free`` left to the
+    body model."""
     scale = 1.0 if stature is None else stature / centre.stature
     return replace(
         centre,
+        free=tuple(free),
         size=f"{centre.size}/{name}",
         girth={**centre.girth, **{k: float(v) for k, v in girths.items()}},
         height={k: v * scale for k, v in centre.height.items()},
@@ -134,9 +144,12 @@ def population_wearers(
         for name in shared
     }
 
+    free = tuple(n for n in centre.girth if n not in measures and n not in ranges)
+
     def make(name: str, at: dict[str, float], quantiles: dict[str, float]) -> Wearer:
         girths = {k: v for k, v in at.items() if k != "stature"}
-        return Wearer(name, wearer_targets(centre, girths, at.get("stature"), name), quantiles)
+        targets = wearer_targets(centre, girths, at.get("stature"), name, free)
+        return Wearer(name, targets, quantiles)
 
     out = [make("centre", median, dict.fromkeys(shared, 0.5))]
     for name in shared:

@@ -96,7 +96,15 @@ def body_fit(args: argparse.Namespace) -> int:
 
     _required(args, "mesh", "the mesh file, or --json with a mesh body block")
     mesh, _ = load_mesh(args.mesh, args.units, args.up, args.repair, allow_holes=True)
-    load_or_fit(mesh, _fit_options(args), args.output)
+    _, place = load_or_fit(mesh, _fit_options(args), args.output)
+    if args.output is not None and Path(place).resolve() != Path(args.output).resolve():
+        import shutil
+
+        from cloth.io import atomic_output
+
+        with atomic_output(args.output) as tmp:  # the fit was in the cache: -o gets it too
+            shutil.copyfile(place, tmp)
+        log.info("wrote %s (the fit from %s)", args.output, place)
     return 0
 
 
@@ -123,6 +131,31 @@ def wearers(args: argparse.Namespace) -> int:
     from cloth.stages.wearers import run_wearers
 
     run_wearers(args.case, args.output, _overrides(args), args.wearers, args.base_dir)
+    return 0
+
+
+def wearers_report(args: argparse.Namespace) -> int:
+    import json
+
+    from cloth.case.judge import Judge
+    from cloth.files.wearers import read_index
+    from cloth.stages.wearers import report_files
+
+    results = {}
+    for text in args.results:
+        name, sep, path = text.partition("=")
+        if not sep or not name or not path:
+            raise InputError(f"{text!r}: give NAME=RESULT.nc", field="results")
+        results[name] = Path(path)
+        if not results[name].is_file():
+            raise InputError("result file not found; check the path", path, "results")
+    import xarray as xr
+
+    with xr.open_dataset(next(iter(results.values()))) as first:
+        case = json.loads(str(first.attrs.get("case", "{}")))
+    report_files(
+        results, read_index(args.index.parent), args.output, Judge.from_block(case.get("judge"))
+    )
     return 0
 
 

@@ -380,6 +380,20 @@ def build_parser() -> argparse.ArgumentParser:
     solver_options(wr)
     wr.set_defaults(handler="wearers", output_folder=True)
 
+    wrr = commands.add_parser(
+        "wearers-report",
+        help="each wearer's result.nc -> wearers.csv, .nc, .png (the pipeline's rule wearers)",
+    )
+    wrr.add_argument(
+        "results",
+        nargs="+",
+        metavar="NAME=RESULT",
+        help="a wearer's name and her result.nc (size=... the body the garment is cut for)",
+    )
+    wrr.add_argument("--index", type=_path, required=True, help="the wearers' wearers.json")
+    wrr.add_argument("-o", "--output", type=_path, required=True, help="output folder")
+    wrr.set_defaults(handler="wearers_report", output_folder=True)
+
     agg = commands.add_parser(
         "aggregate",
         help="relaxed.nc -> result.nc (+ summary.csv): stresses, pressure, landmarks",

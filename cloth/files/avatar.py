@@ -101,9 +101,9 @@ def write_avatar(
         "girths_m": {
             name: {
                 "height": targets.height[name],
-                "chart": targets.girth[name],
+                "chart": None if name in targets.free else targets.girth[name],
                 "avatar": round(avatar.girth[name], 9),
-                "residual": round(residuals[name], 9),
+                "residual": round(residuals[name], 9) if name in residuals else None,
             }
             for name in targets.girth
         },

@@ -72,7 +72,10 @@ def index_record(
                     else {"mesh": fitted[w.name]}
                 ),
                 "quantiles": dict(w.quantiles),
-                "girths_m": {k: round(v, 9) for k, v in w.targets.girth.items()},
+                "girths_m": {
+                    k: round(v, 9) for k, v in w.targets.girth.items() if k not in w.targets.free
+                },
+                "free": list(w.targets.free),
                 "heights_m": {k: round(v, 9) for k, v in w.targets.height.items()},
                 "stature_m": round(w.targets.stature, 9),
             }

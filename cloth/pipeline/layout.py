@@ -71,6 +71,11 @@ class Layout:
         ``confirmed/``."""
         return f"{self.root}/designs/{design}/{name}"
 
+    def wearers_file(self, name: str, entry: str = "{entry}") -> str:
+        """A file of a wearers entry (`cloth.pipeline.wearers`): ``wearers.csv``,
+        ``wearers.nc``, ``wearers.png``."""
+        return f"{self.root}/wearers/{entry}/{name}"
+
 
 #: The default config's layout.
 DEFAULT = Layout()

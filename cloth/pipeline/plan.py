@@ -32,6 +32,7 @@ from cloth.paths import input_file
 from cloth.pipeline.config import validate_case
 from cloth.pipeline.layout import DEFAULT, Layout, results_folder
 from cloth.pipeline.variants import Variant, sweep_variants
+from cloth.pipeline.wearers import WearersRun, wearer_runs
 from cloth.results.targets import Target
 
 
@@ -137,6 +138,8 @@ class Plan:
     index: list[dict] = field(default_factory=list)
     #: Profile designs by name (`ProfileDesign`).
     designs: dict[str, ProfileDesign] = field(default_factory=dict)
+    #: Wearers runs by entry (`cloth.pipeline.wearers`); their cases are in ``cases`` too.
+    wearers: dict[str, WearersRun] = field(default_factory=dict)
 
     def case(self, name: str, block: dict | None = None, where: str = "cases") -> Case:
         """Case ``name`` of the config (or ``block``) with its material as the ingested file,
@@ -208,6 +211,10 @@ class Plan:
         if name.startswith("case-") and name[5:] in cases:
             return local_body(cases[name[5:]]["body"], name, self.base, self.layout, self.span)
         return local_body(self.config["bodies"][name], name, self.base, self.layout, self.span)
+
+    def found(self, path: str) -> str:
+        """A path of the config, found where the pipeline looks for it (`data_path`)."""
+        return data_path(path, self.base)
 
     @property
     def span(self) -> tuple[float, float] | None:
@@ -440,6 +447,13 @@ def make_plan(
     plan.cases = {name: plan.case(name) for name in config.get("cases", {})}
     plan.cases.update({name: plan.case(name, block) for name, block in plan.sweep.items()})
     plan.designs = {name: profile_design(plan, name) for name in config.get("profile_designs", {})}
+    plan.wearers, worn = wearer_runs(plan)
+    for name in worn:
+        if name in plan.cases:
+            raise InputError(
+                "a case of this name is also a wearers case", "config", f"cases.{name}"
+            )
+    plan.cases.update(worn)
     return plan
 
 

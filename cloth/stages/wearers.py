@@ -13,7 +13,10 @@ shipped ones of the body's chart and size, `cloth.files.wearers`), placed by a g
   discretisation error (Pa, NaN where none), the wearers' girths and stature (m).
 - ``wearers.csv``: per girth line the minimum, centre and maximum mean pressure over the
   wearers (mmHg), which wearer gives each extreme, the size's body's value, and beside them,
-  kept apart, the largest stated discretisation error of a wearer there (mmHg).
+  kept apart, the largest stated discretisation error of a wearer there (mmHg); at the case's
+  class point (``judge.class_point``, B) the compression class of the lowest and the highest
+  wearer (the class holds for every wearer where they agree), and with ``judge.bands`` the
+  bands that hold every wearer.
 - ``wearers.png``: each line's range over the wearers, the centre wearer and the size's body
   marked, against the case's pressure bands or compression classes.
 
@@ -34,6 +37,7 @@ import yaml
 from cloth.bodies.leg import DEFAULT_LEG_CHART
 from cloth.bodies.torso import DEFAULT_CHART as DEFAULT_TORSO_CHART
 from cloth.case import Case
+from cloth.case.judge import Judge
 from cloth.case.locations import relocated
 from cloth.errors import InputError
 from cloth.files.wearers import DEFAULT_POPULATION, read_index, shipped_wearers
@@ -125,21 +129,31 @@ def run_wearers(
         with atomic_output(path) as tmp:
             tmp.write_text(yaml.safe_dump(relocated(data, base_dir, target), sort_keys=False))
         run_case(path, target, overrides, stop_after="aggregate")
-    ds = collect(output, list(cases), index)
-    write_netcdf(ds, output / "wearers.nc")
-    write_table(ds, output / "wearers.csv")
+    results = {name: output / name / "result.nc" for name in cases}
+    return report_files(results, index, output, case.judge)
+
+
+def report_files(results: dict[str, Path], index: dict, output: Path, judge: Judge) -> xr.Dataset:
+    """wearers.nc, wearers.csv and wearers.png in ``output`` from each wearer's ``results``
+    (name -> result.nc, `SIZE` the body the garment is cut for) and the wearers' ``index``,
+    judged by ``judge``; returns wearers.nc's dataset."""
     from cloth.figures.wearers import plot_wearers  # late: matplotlib (~0.4 s)
 
-    plot_wearers(ds, case.judge, output / "wearers.png")
-    log.info("wrote %s: %d wearers", output, len(cases) - 1)
+    output.mkdir(parents=True, exist_ok=True)
+    ds = collect(results, index)
+    write_netcdf(ds, output / "wearers.nc")
+    write_table(ds, output / "wearers.csv", judge)
+    plot_wearers(ds, judge, output / "wearers.png")
+    log.info("wrote %s: %d wearers", output, len([n for n in results if n != SIZE]))
     return ds
 
 
-def collect(output: Path, names: list[str], index: dict) -> xr.Dataset:
-    """wearers.nc's dataset from the runs in ``output`` (one folder per name)."""
+def collect(paths: dict[str, Path], index: dict) -> xr.Dataset:
+    """wearers.nc's dataset from each wearer's result.nc (``paths``: name -> file)."""
+    names = list(paths)
     results = {}
-    for name in names:
-        with xr.open_dataset(output / name / "result.nc") as ds:
+    for name, path in paths.items():
+        with xr.open_dataset(path) as ds:
             results[name] = ds.load()
     lines: list[str] = []
     for ds in results.values():
@@ -184,8 +198,10 @@ def collect(output: Path, names: list[str], index: dict) -> xr.Dataset:
     )
 
 
-def table_rows(ds: xr.Dataset) -> list[dict[str, object]]:
-    """wearers.csv's rows (module docstring), one per girth line."""
+def table_rows(ds: xr.Dataset, judge: Judge | None = None) -> list[dict[str, object]]:
+    """wearers.csv's rows (module docstring), one per girth line; with ``judge``, at its class
+    point the class of the lowest and the highest wearer, and on every line the bands that
+    hold every wearer."""
     names = [str(n) for n in ds["wearer"].values]
     wearers = [k for k, n in enumerate(names) if n != SIZE]
     rows = []
@@ -210,6 +226,17 @@ def table_rows(ds: xr.Dataset) -> list[dict[str, object]]:
                 if not np.isfinite(errors[known]).any()
                 else round(float(np.nanmax(errors[known])), 4),
             )
+        if judge is not None and known.any():
+            if str(line) == judge.class_point:
+                row["class_min"] = judge.compression_class(float(np.nanmin(values)))
+                row["class_max"] = judge.compression_class(float(np.nanmax(values)))
+            if judge.bands:
+                held = [
+                    name
+                    for name, low, high in judge.bands
+                    if np.all((values[known] >= low) & (values[known] <= high))
+                ]
+                row["bands_every_wearer"] = " ".join(held) or "-"
         size = names.index(SIZE) if SIZE in names else None
         if size is not None and np.isfinite(ds["pressure_mean"].values[size, j]):
             row["size_body_mmHg"] = round(float(ds["pressure_mean"].values[size, j] / MMHG), 4)
@@ -229,15 +256,27 @@ COLUMNS = (
     "spread_mmHg",
     "size_body_mmHg",
     "discretisation_error_mmHg",
+    "class_min",
+    "class_max",
+    "bands_every_wearer",
 )
 
 
-def write_table(ds: xr.Dataset, path: Path) -> Path:
+def write_table(ds: xr.Dataset, path: Path, judge: Judge | None = None) -> Path:
     with atomic_output(path) as tmp, tmp.open("w", newline="") as handle:
         writer = csv.DictWriter(handle, fieldnames=list(COLUMNS), restval="")
         writer.writeheader()
-        writer.writerows(table_rows(ds))
+        writer.writerows(table_rows(ds, judge))
     return path
 
 
-__all__ = ["COLUMNS", "SIZE", "collect", "run_wearers", "table_rows", "wearer_cases", "wearers_of"]
+__all__ = [
+    "COLUMNS",
+    "SIZE",
+    "collect",
+    "report_files",
+    "run_wearers",
+    "table_rows",
+    "wearer_cases",
+    "wearers_of",
+]

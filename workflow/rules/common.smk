@@ -43,8 +43,29 @@ body_file = PLAN.layout.body_file
 case_file = PLAN.layout.case_file
 sweep_file = PLAN.layout.sweep_file
 design_file = PLAN.layout.design_file
+wearers_file = PLAN.layout.wearers_file
 SWEEP_BLOCKS, SWEEP_INDEX, CASES = PLAN.sweep, PLAN.index, PLAN.cases
 DESIGNS = PLAN.designs
+WEARERS = PLAN.wearers
+#: The wearers runs' cases: they run to result.nc only (no figures or views of their own).
+WEARER_CASES = {name for run in WEARERS.values() for name in run.cases.values()}
+
+
+def wearers_results(wildcards):
+    """Every result.nc of a wearers entry (the size's body first)."""
+    return [case_file("result.nc", n) for n in WEARERS[wildcards.entry].cases.values()]
+
+
+def wearers_index(wildcards):
+    return WEARERS[wildcards.entry].index
+
+
+def wearers_pairs(wildcards):
+    """``NAME=RESULT`` per wearer, for cloth wearers-report."""
+    cases = WEARERS[wildcards.entry].cases
+    return " ".join(
+        shlex.quote(f"{w}={case_file('result.nc', n)}") for w, n in cases.items()
+    )
 
 
 def case_block(name):
@@ -142,11 +163,21 @@ def all_outputs():
             else ("design_confirmed.csv", "design_profile.png", "pattern.svg")
         )
     ]
+    wearers = [
+        wearers_file(name, entry)
+        for entry in sorted(WEARERS)
+        for name in ("wearers.csv", "wearers.nc", "wearers.png")
+    ]
     return (
         sweep
         + designs
+        + wearers
         + [material_file(suffix, m) for m in materials for suffix in ("nc", "png")]
-        + [case_file(name, case) for case in sorted(CASES) for name in files]
+        + [
+            case_file(name, case)
+            for case in sorted(set(CASES) - WEARER_CASES)
+            for name in files
+        ]
     )
 
 

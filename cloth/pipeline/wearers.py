@@ -1,0 +1,127 @@
+"""The pipeline's wearers runs (config ``wearers``; issue 52, item 4): one garment on every
+wearer of a size, one case per wearer, so that a cluster runs them side by side.
+
+An entry names a body of the config with a size (a torso, leg or avatar of a chart whose
+wearers ship, or ``folder``: a folder ``cloth body wearers`` wrote), a material and the
+garment's reduction; the sweep's garment and solver with the entry's ``garment`` keys over
+them. The garment is cut for that body and worn unchanged by each wearer (`cloth.garment.cut`).
+Cases: ``wearers__{entry}__size`` (the body it is cut for) and ``wearers__{entry}__{wearer}``;
+each runs through the pipeline's rules as any case (write_case, predeform, relax, aggregate;
+no figures), and the rule ``wearers`` gathers their result.nc into
+``{results}/wearers/{entry}/``: wearers.csv, wearers.nc and wearers.png
+(`cloth.stages.wearers`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+from cloth.bodies.leg import DEFAULT_LEG_CHART
+from cloth.bodies.torso import DEFAULT_CHART
+from cloth.case import Case
+from cloth.errors import InputError
+from cloth.files.wearers import DEFAULT_POPULATION, INDEX, read_index, shipped_wearers
+
+#: The case of the body the garment is cut for (`cloth.stages.wearers.SIZE`).
+SIZE = "size"
+#: Mesh options a wearer takes from an avatar body.
+MESH_OPTIONS = ("surface", "smoothing", "spacing")
+
+
+@dataclass(frozen=True)
+class WearersRun:
+    """A wearers entry: its cases (wearer -> case name, `SIZE` first) and its wearers index."""
+
+    cases: dict[str, str]
+    index: str
+
+
+def case_name(entry: str, wearer: str) -> str:
+    return f"wearers__{entry}__{wearer}"
+
+
+def wearers_folder(body: dict, folder: str | None, where: str, data_path) -> tuple[Path, dict]:
+    """The wearers folder of an entry's ``body`` block (its chart's shipped wearers, from the
+    torso chart's default population or the chart's ranges) or ``folder``, and its index."""
+    if folder is not None:
+        path = Path(data_path(folder))
+        try:
+            return path, read_index(path)
+        except InputError as exc:
+            raise InputError(exc.detail, "config", f"{where}.folder") from None
+    kind = next((k for k in ("torso", "leg", "avatar") if k in body), None)
+    spec = body.get(kind, {}) if kind else {}
+    if "size" not in spec:
+        raise InputError(
+            "the body has no size, so it has no wearers; give a torso, leg or avatar body with "
+            "a size, or folder (cloth body wearers)",
+            "config",
+            f"{where}.body",
+        )
+    default = DEFAULT_LEG_CHART if kind == "leg" else DEFAULT_CHART
+    chart = Path(data_path(spec["chart"])) if "chart" in spec else default
+    for population in (DEFAULT_POPULATION, None):
+        found = shipped_wearers(chart, spec["size"], population)
+        if found is not None:
+            return found, read_index(found)
+    raise InputError(
+        f"no wearers of size {spec['size']} ship for {chart}; make them with `cloth body "
+        f"wearers {chart} --size {spec['size']} -o DIR` and give folder: DIR",
+        "config",
+        f"{where}.body",
+    )
+
+
+def wearers_blocks(plan, entry: str) -> tuple[dict[str, dict], str]:
+    """Wearer -> case block of the config's wearers ``entry`` (module docstring), the size's
+    body first, and its index file."""
+    config = plan.config
+    spec = config["wearers"][entry]
+    where = f"wearers.{entry}"
+    bodies = config.get("bodies", {})
+    if spec["body"] not in bodies:
+        raise InputError(
+            f"body {spec['body']!r} is not defined under bodies "
+            f"({', '.join(sorted(bodies)) or 'none defined'})",
+            "config",
+            f"{where}.body",
+        )
+    body = bodies[spec["body"]]
+    folder, index = wearers_folder(body, spec.get("folder"), where, plan.found)
+    own = plan.body_block(spec["body"])
+    sweep = config.get("sweep") or {}
+    garment = {
+        **sweep.get("garment", {}),
+        **spec.get("garment", {}),
+        "reduction": spec["reduction"],
+        "pattern": {"body": own},
+    }
+    base = {"material": spec["material"], "garment": garment, "solver": sweep.get("solver", {})}
+    if "judge" in spec:
+        base["judge"] = spec["judge"]
+    blocks = {SIZE: {**base, "body": own}}
+    options = {k: own[k] for k in MESH_OPTIONS if k in own and "avatar" in body}
+    for wearer in index["wearers"]:
+        if "mesh" in wearer:
+            mesh = str((folder / wearer["mesh"]).resolve())
+            blocks[wearer["name"]] = {**base, "body": {"mesh": mesh, **options}}
+    return blocks, str(folder / INDEX)
+
+
+def wearer_runs(plan) -> tuple[dict[str, WearersRun], dict[str, Case]]:
+    """Every wearers entry of the plan's config and their cases, validated (their errors name
+    the config key ``wearers.{entry}``)."""
+    runs, cases = {}, {}
+    for entry in plan.config.get("wearers") or {}:
+        blocks, index = wearers_blocks(plan, entry)
+        names = {}
+        for wearer, block in blocks.items():
+            name = case_name(entry, wearer)
+            cases[name] = plan.case(name, block, "wearers")
+            names[wearer] = name
+        runs[entry] = WearersRun(names, index)
+    return runs, cases
+
+
+__all__ = ["SIZE", "WearersRun", "case_name", "wearer_runs", "wearers_blocks"]
