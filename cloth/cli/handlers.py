@@ -342,5 +342,5 @@ def design(args: argparse.Namespace) -> int:
 def confirm(args: argparse.Namespace) -> int:
     from cloth.stages.sweep import confirm_file
 
-    confirm_file(args.design, args.results, args.output)
+    confirm_file(args.design, args.results, args.output, args.iterate)
     return 0

@@ -596,6 +596,13 @@ def build_parser() -> argparse.ArgumentParser:
         help="result.nc of each answered target's confirmation case, in design.csv's order",
     )
     co.add_argument("-o", "--output", type=_path, required=True, help="confirmed CSV to write")
+    co.add_argument(
+        "--iterate",
+        type=_path,
+        metavar="DIR",
+        help="confirm each answer that misses its target by more than its stated error again, "
+        "by a secant on the confirmed cases (at most 3 runs each, into DIR; docs/outputs.md)",
+    )
     co.set_defaults(handler="confirm")
 
     case = commands.add_parser("case", help="case files: check, write")

@@ -210,6 +210,7 @@ def design(ds: xr.Dataset, targets: list[dict]) -> list[dict[str, object]]:
                 "target_Pa": goal,
                 "target_mmHg": goal / MMHG,
                 "reduction": math.nan,
+                "slope_Pa": math.nan,
                 "reduction_error": math.nan,
                 "reduction_low": math.nan,
                 "reduction_high": math.nan,
@@ -243,8 +244,10 @@ def reduction_interval(
 ) -> dict[str, float]:
     """The design answer's interval: ``reduction`` (1) +- the stated pressure error at it (Pa,
     interpolated between the two swept cases around it, ``errors``) over the slope of the mean
-    pressure between them (Pa per unit reduction): ``reduction_error``, ``reduction_low`` and
-    ``reduction_high`` (1); NaN where a case around it has no error estimate."""
+    pressure between them (Pa per unit reduction, ``slope_Pa``): ``reduction_error``,
+    ``reduction_low`` and ``reduction_high`` (1); NaN where a case around it has no error
+    estimate. The interval holds the discretisation error only: the interpolation's is measured
+    by the confirmation (`cloth.stages.secant`)."""
     order = np.argsort(reductions)
     r, p, e = reductions[order], pressures[order], errors[order]
     k = int(np.clip(np.searchsorted(r, reduction, side="right") - 1, 0, len(r) - 2))
@@ -252,6 +255,7 @@ def reduction_interval(
     slope = (p[k + 1] - p[k]) / (r[k + 1] - r[k])
     half = ((1 - t) * e[k] + t * e[k + 1]) / abs(slope) if slope else math.inf
     return {
+        "slope_Pa": slope,
         "reduction_error": half,
         "reduction_low": reduction - half,
         "reduction_high": reduction + half,
@@ -265,6 +269,7 @@ DESIGN_HEADER = [
     "target_Pa",
     "target_mmHg",
     "reduction",
+    "slope_Pa",
     "reduction_error",
     "reduction_low",
     "reduction_high",

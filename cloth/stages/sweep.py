@@ -20,6 +20,7 @@ from cloth.pipeline.sweep import (
     write_rows,
 )
 from cloth.pipeline.variants import Variant
+from cloth.stages.secant import iterate_row
 
 log = logging.getLogger("cloth")
 
@@ -76,10 +77,20 @@ def design_file(sweep: Path, targets: list[dict], output: Path) -> None:
     write_rows(rows, output, design_header(rows))
 
 
-def confirm_file(design: Path, results: list[Path], output: Path) -> None:
+def confirm_file(
+    design: Path, results: list[Path], output: Path, iterate: Path | None = None
+) -> None:
     """design.csv and the confirmation cases' ``results`` (a result.nc per answered row, in its
-    order) -> the confirmed CSV."""
-    rows = confirm(read_design(design), results)
+    order) -> the confirmed CSV; with ``iterate`` (a folder), each answer missing its target by
+    more than its stated error is confirmed again by a secant into it (`cloth.stages.secant`)."""
+    design_rows = read_design(design)
+    rows = confirm(design_rows, results)
+    if iterate is not None:
+        iterate.mkdir(parents=True, exist_ok=True)
+        answered = iter(results)
+        for source, row in zip(design_rows, rows, strict=True):
+            if source["status"] == "ok":
+                row.update(iterate_row(source, Path(next(answered)), iterate))
     header = list(dict.fromkeys(k for row in rows for k in row))
     write_rows(rows, output, header or ["material"])
     for row in rows:

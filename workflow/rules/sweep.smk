@@ -55,11 +55,12 @@ rule confirm:
         design=sweep_file("design.csv"),
         results=confirmation_results,
     output:
-        report(
+        csv=report(
             sweep_file("design_confirmed.csv"),
             caption="../report/design_confirmed.rst",
             category="Sweep",
         ),
+        secant=directory(sweep_file("design_secant")),
     log:
         "logs/confirm.log",
     priority: CRITICAL
@@ -68,4 +69,5 @@ rule confirm:
     params:
         cloth_version=CLOTH_VERSION,
     shell:
-        "cloth confirm {input.design:q} {input.results:q} -o {output:q} > {log:q} 2>&1"
+        "cloth confirm {input.design:q} {input.results:q} -o {output.csv:q} "
+        "--iterate {output.secant:q} > {log:q} 2>&1"
