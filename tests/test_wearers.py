@@ -384,3 +384,37 @@ def test_a_body_without_a_size_has_no_wearers(tmp_path):
     done = _cloth("wearers", str(tmp_path / "case.yaml"), "-o", str(tmp_path / "out"))
     assert done.returncode == 2 and "no size" in done.stderr
     assert len(done.stderr.strip().splitlines()) == 1 and not (tmp_path / "out").exists()
+
+
+def test_the_variation_runs_each_value_on_the_centre_wearer_once():
+    """friction [0, 0.4], tissue [2e4] and worn [false, true] on a frictionless, rigid, new
+    case: three runs of the centre wearer, each with its one setting, the solver's path
+    defaults left to the skin (friction needs the path from the wrap)."""
+    from cloth.case import Case
+    from cloth.stages.wearers import variation_cases
+
+    data = {
+        "material": "powernet",
+        "body": {"leg": {"size": "S"}},
+        "garment": {"bottom": 0.09, "top": 0.5, "reduction": 0.16, "grid": [12, 14]},
+        "solver": {"continuation": True, "reuse": True},
+        "variation": {
+            "friction": [0.0, 0.4],
+            "tissue_modulus": [2e4],
+            "tissue_thickness": 0.01,
+            "worn": [False, True],
+        },
+    }
+    centre = {**data, "body": {"mesh": "centre.ply"}}
+    runs = variation_cases(data, centre, "centre")
+    assert sorted(runs) == ["centre~mu0.4", "centre~tissue20000", "centre~worn"]
+    assert runs["centre~mu0.4"]["contact"]["friction"] == 0.4
+    assert runs["centre~tissue20000"]["body"]["tissue"] == {"thickness": 0.01, "modulus": 2e4}
+    assert runs["centre~worn"]["garment"]["worn"] is True
+    for block in runs.values():
+        assert "continuation" not in block["solver"] and block["body"]["mesh"] == "centre.ply"
+    assert (
+        Case.from_dict({**runs["centre~mu0.4"], "body": data["body"]}).solver.continuation is False
+    )
+    with pytest.raises(InputError, match="tissue_thickness"):
+        variation_cases({**data, "variation": {"tissue_modulus": [2e4]}}, centre, "centre")
