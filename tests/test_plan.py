@@ -4,6 +4,7 @@ targets and names, the design's confirmation cases, and finding bundled files.""
 from __future__ import annotations
 
 import copy
+import json
 from dataclasses import replace
 from pathlib import Path
 
@@ -191,3 +192,59 @@ def test_a_config_file_that_is_not_there_is_named_before_any_job(
     with pytest.raises(InputError) as error:
         make_plan(config, ROOT)
     assert error.value.field.startswith(field) and error.value.source == "config"
+
+
+STOCKING = yaml.safe_load((ROOT / "config/stocking.yaml").read_text())
+
+
+def test_a_wearers_entry_is_a_case_per_wearer_wearing_the_sizes_pattern():
+    """config/stocking.yaml's leg_S: the chart's leg S and its five shipped wearers, each a
+    case of the sweep's garment at 0.16 cut for leg S (its pattern), the wearer's mesh as body."""
+    plan = make_plan(copy.deepcopy(STOCKING), ROOT)
+    run = plan.wearers["leg_S"]
+    assert list(run.cases) == [
+        "size",
+        "centre",
+        "B_min_C_min",
+        "B_min_C_max",
+        "B_max_C_min",
+        "B_max_C_max",
+    ]
+    index = json.loads(Path(run.index).read_text())
+    assert index["size"] == "S" and index["kind"] == "leg"
+    for wearer, name in run.cases.items():
+        case = plan.cases[name]
+        garment = case.to_dict()["garment"]
+        assert garment["reduction"] == 0.16
+        assert garment["pattern"]["body"]["leg"]["size"] == "S"
+        assert garment["grid"] == STOCKING["sweep"]["garment"]["grid"]
+        if wearer != "size":
+            assert case.body.kind == "mesh" and case.body.option("mesh").endswith(f"{wearer}.ply")
+
+
+def test_a_wearers_entry_with_targets_is_one_robust_design():
+    config = copy.deepcopy(STOCKING)
+    config["wearers"] = {"II_M": {"material": "powernet", "body": "leg_M", "targets": ["B=23:32"]}}
+    run = make_plan(config, ROOT).wearers["II_M"]
+    assert run.cases == {} and run.targets == ("B=23:32",)
+    assert run.start.garment.reduction == 0.2 and run.start.garment.pattern is None
+
+
+@pytest.mark.parametrize(
+    ("entry", "field"),
+    [
+        ({"material": "powernet", "body": "leg_XL", "reduction": 0.1}, "wearers.w.body"),
+        ({"material": "silk", "body": "leg_S", "reduction": 0.1}, "wearers.w.material"),
+        ({"material": "powernet", "body": "leg_S", "targets": ["B=32:23"]}, "wearers.w.targets.0"),
+        (
+            {"material": "powernet", "body": "leg_S", "reduction": 0.1, "folder": "nowhere"},
+            "wearers.w.folder",
+        ),
+    ],
+)
+def test_a_bad_wearers_entry_is_refused_naming_its_key(entry, field):
+    config = copy.deepcopy(STOCKING)
+    config["wearers"] = {"w": entry}
+    with pytest.raises(InputError) as error:
+        make_plan(config, ROOT)
+    assert error.value.field.startswith(field), error.value

@@ -312,7 +312,7 @@ def design(args: argparse.Namespace) -> int:
         if len(args.input) > 1 or args.sizes is not None:
             raise InputError("--wearers designs one case's size", field="--wearers")
         folder = None if args.wearers == "shipped" else Path(args.wearers)
-        robust_files(first, targets, args.output, folder, args.base_dir)
+        robust_files(first, targets, args.output, folder, args.base_dir, fail=not args.report_unmet)
         return 0
     bands = [t.line for t in targets if t.band is not None]
     if bands:

@@ -567,6 +567,12 @@ def build_parser() -> argparse.ArgumentParser:
         "wearer inside every band, --target LINE=LOW:HIGH (docs/outputs.md, 'Robust design')",
     )
     de.add_argument(
+        "--report-unmet",
+        action="store_true",
+        help="with --wearers: a band not met is reported in robust.csv only, exit status 0 "
+        "(the pipeline's robust designs)",
+    )
+    de.add_argument(
         "--cold",
         action="store_true",
         help="with several sizes: start each size from the case, not from the size before it",

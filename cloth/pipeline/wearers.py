@@ -22,6 +22,7 @@ from cloth.bodies.torso import DEFAULT_CHART
 from cloth.case import Case
 from cloth.errors import InputError
 from cloth.files.wearers import DEFAULT_POPULATION, INDEX, read_index, shipped_wearers
+from cloth.results.targets import Target
 
 #: The case of the body the garment is cut for (`cloth.stages.wearers.SIZE`).
 SIZE = "size"
@@ -31,10 +32,17 @@ MESH_OPTIONS = ("surface", "smoothing", "spacing")
 
 @dataclass(frozen=True)
 class WearersRun:
-    """A wearers entry: its cases (wearer -> case name, `SIZE` first) and its wearers index."""
+    """A wearers entry: its cases (wearer -> case name, `SIZE` first) and its wearers index;
+    for a robust design (``targets``) no cases, its start case, targets and wearers folder."""
 
     cases: dict[str, str]
     index: str
+    start: Case | None = None
+    targets: tuple[str, ...] = ()
+
+    @property
+    def folder(self) -> str:
+        return str(Path(self.index).parent)
 
 
 def case_name(entry: str, wearer: str) -> str:
@@ -94,7 +102,7 @@ def wearers_blocks(plan, entry: str) -> tuple[dict[str, dict], str]:
     garment = {
         **sweep.get("garment", {}),
         **spec.get("garment", {}),
-        "reduction": spec["reduction"],
+        "reduction": spec.get("reduction", spec.get("start_reduction", 0.2)),
         "pattern": {"body": own},
     }
     base = {"material": spec["material"], "garment": garment, "solver": sweep.get("solver", {})}
@@ -109,16 +117,39 @@ def wearers_blocks(plan, entry: str) -> tuple[dict[str, dict], str]:
     return blocks, str(folder / INDEX)
 
 
+def _case(plan, entry: str, wearer: str, block: dict) -> Case:
+    """The validated case of ``wearer`` of ``entry``; errors name ``wearers.{entry}``."""
+    name = case_name(entry, wearer)
+    try:
+        return plan.case(name, block, "wearers")
+    except InputError as exc:
+        field = (exc.field or "").replace(f"wearers.{name}", f"wearers.{entry}")
+        raise InputError(f"wearer {wearer}: {exc.detail}", "config", field or None) from None
+
+
 def wearer_runs(plan) -> tuple[dict[str, WearersRun], dict[str, Case]]:
     """Every wearers entry of the plan's config and their cases, validated (their errors name
     the config key ``wearers.{entry}``)."""
     runs, cases = {}, {}
-    for entry in plan.config.get("wearers") or {}:
+    for entry, spec in (plan.config.get("wearers") or {}).items():
         blocks, index = wearers_blocks(plan, entry)
+        if "targets" in spec:  # a robust design: one job (cloth design --wearers)
+            for number, text in enumerate(spec["targets"]):
+                try:
+                    Target.parse(text)
+                except InputError as exc:
+                    raise InputError(
+                        exc.detail, "config", f"wearers.{entry}.targets.{number}"
+                    ) from None
+            start = dict(blocks[SIZE])
+            start["garment"] = {k: v for k, v in start["garment"].items() if k != "pattern"}
+            case = _case(plan, entry, SIZE, start)
+            runs[entry] = WearersRun({}, index, case, tuple(spec["targets"]))
+            continue
         names = {}
         for wearer, block in blocks.items():
             name = case_name(entry, wearer)
-            cases[name] = plan.case(name, block, "wearers")
+            cases[name] = _case(plan, entry, wearer, block)
             names[wearer] = name
         runs[entry] = WearersRun(names, index)
     return runs, cases

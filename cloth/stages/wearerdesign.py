@@ -8,8 +8,8 @@ In ``OUT``:
 * ``robust.csv``: per target line, its band, the loop's lowest and highest wearer, the
   confirmed lowest and highest wearer from scratch and who they are, the narrowest band the
   wearers span, the largest stated discretisation error, whether every wearer is inside
-  (``met``), the knots' values, the min-max measure t and the equilibria used (mmHg;
-  reductions 1);
+  (``met``), the knots' values, the min-max measure t, the equilibria used (mmHg;
+  reductions 1) and the ``shortfall`` (blank where every band is met);
 * ``confirmed/``: `cloth.stages.wearers` run on ``case.yaml``: every wearer's case and run,
   ``wearers.csv``, ``wearers.nc`` and ``wearers.png``.
 
@@ -45,9 +45,11 @@ def robust_files(
     output: Path,
     wearers: Path | None = None,
     base_dir: Path | None = None,
+    fail: bool = True,
 ) -> Robust:
     """The robust design of ``case_path`` for the wearers of its size (``wearers``, else the
-    shipped ones) and its files in ``output`` (module docstring)."""
+    shipped ones) and its files in ``output`` (module docstring); ``fail`` False (the
+    pipeline): a band not met is reported in robust.csv (``met`` 0, ``shortfall``) only."""
     if not targets:
         raise InputError("give at least one band, e.g. --target B=23:32", field="--target")
     case = load_case(case_path)
@@ -66,6 +68,18 @@ def robust_files(
     designed = write_case(data, output / "case.yaml", base_dir)
     confirmed = run_wearers(designed, output / "confirmed", {}, folder)
     rows = robust_rows(result, confirmed)
+    shortfall = result.shortfall or next(
+        (
+            f"{r['landmark']}: confirmed from scratch the wearers span "
+            f"{r['confirmed_min_mmHg']:.2f}-{r['confirmed_max_mmHg']:.2f} mmHg, outside the band "
+            f"{r['band_low_mmHg']:.4g}-{r['band_high_mmHg']:.4g}"
+            for r in rows
+            if not r["met"]
+        ),
+        None,
+    )
+    for row in rows:
+        row["shortfall"] = shortfall or ""
     write_rows(rows, output / "robust.csv", list(rows[0]))
     log.info(
         "robust design: %s on %d wearers in %d equilibria and %d from scratch",
@@ -74,18 +88,8 @@ def robust_files(
         result.solves,
         len(result.wearers),
     )
-    if result.shortfall is not None:
-        raise InputError(result.shortfall, case_path, "targets")
-    unmet = [r for r in rows if not r["met"]]
-    if unmet:
-        row = unmet[0]
-        raise InputError(
-            f"{row['landmark']}: confirmed from scratch the wearers span "
-            f"{row['confirmed_min_mmHg']:.2f}-{row['confirmed_max_mmHg']:.2f} mmHg, outside "
-            f"the band {row['band_low_mmHg']:.4g}-{row['band_high_mmHg']:.4g} (see robust.csv)",
-            case_path,
-            "targets",
-        )
+    if shortfall is not None and fail:
+        raise InputError(shortfall, case_path, "targets")
     return result
 
 

@@ -60,6 +60,27 @@ def wearers_index(wildcards):
     return WEARERS[wildcards.entry].index
 
 
+def wearers_names(robust):
+    """A wildcard constraint matching the wearers entries with targets (``robust``) or
+    without; one that matches nothing where there are none."""
+    names = [n for n, run in WEARERS.items() if (run.start is not None) == robust]
+    return "|".join(names) if names else "(?!)"
+
+
+def robust_material(wildcards):
+    return WEARERS[wildcards.entry].start.material
+
+
+def robust_case_json(wildcards):
+    return json.dumps(WEARERS[wildcards.entry].start.to_dict(), sort_keys=True)
+
+
+def robust_targets(wildcards):
+    return " ".join(
+        f"--target {shlex.quote(t)}" for t in WEARERS[wildcards.entry].targets
+    )
+
+
 def wearers_pairs(wildcards):
     """``NAME=RESULT`` per wearer, for cloth wearers-report."""
     cases = WEARERS[wildcards.entry].cases
@@ -166,7 +187,11 @@ def all_outputs():
     wearers = [
         wearers_file(name, entry)
         for entry in sorted(WEARERS)
-        for name in ("wearers.csv", "wearers.nc", "wearers.png")
+        for name in (
+            ("robust.csv", "confirmed/wearers.csv", "confirmed/wearers.png")
+            if WEARERS[entry].start is not None
+            else ("wearers.csv", "wearers.nc", "wearers.png")
+        )
     ]
     return (
         sweep
