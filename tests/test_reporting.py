@@ -266,6 +266,7 @@ def test_the_design_interval_is_the_stated_pressure_error_over_the_slope():
     row = design(ds, [{"landmark": "waist", "pressure_kPa": 2.0}])[0]
     assert row["reduction"] == pytest.approx(0.175)
     assert row["reduction_error"] == pytest.approx(0.0025)
+    assert row["slope_Pa"] == pytest.approx(20000.0)  # (3500 - 1500) / (0.25 - 0.15)
     assert (row["reduction_low"], row["reduction_high"]) == pytest.approx((0.1725, 0.1775))
     ds["pressure_mean_error"][0, 0, 2, 0] = np.nan
     row = design(ds, [{"landmark": "waist", "pressure_kPa": 2.0}])[0]
@@ -303,6 +304,7 @@ def test_a_design_row_says_what_it_found_in_its_own_words():
         "target_Pa",
         "target_mmHg",
         "reduction",
+        "slope_Pa",
         "reduction_error",
         "reduction_low",
         "reduction_high",

@@ -154,6 +154,10 @@ def test_a_populations_wearers_are_its_size_s_quantiles():
         "waist_p95",
         "stature_p5",
         "stature_p95",
+        "centre_muscle_min",
+        "centre_muscle_max",
+        "centre_proportions_min",
+        "centre_proportions_max",
     ]
     middle = wearers.wearers[0].targets
     assert middle.girth["waist"] == pytest.approx(0.90) and middle.girth["hip"] == pytest.approx(
@@ -189,16 +193,35 @@ def test_the_coverage_is_the_share_inside_every_measure_s_range():
 def test_a_chart_s_ranges_give_their_corners_and_centre():
     centre = chart_targets(LEG_CHART, "M")
     wearers = range_wearers(centre, centre.ranges)
-    assert len(wearers.wearers) == 1 + 2**2
+    assert len(wearers.wearers) == 1 + 2**2 + 4  # the centre, the corners, the shapes
     corners = {w.name: (w.targets.girth["B"], w.targets.girth["C"]) for w in wearers.wearers}
     assert corners["B_min_C_max"] == pytest.approx((0.22, 0.38))
     assert corners["centre"] == pytest.approx((0.23, 0.36))
     many = {n: (0.9 * g, 1.1 * g) for n, g in centre.girth.items()}
     sampled = range_wearers(centre, many)
-    assert len(sampled.wearers) == 1 + MAX_CORNERS
-    for wearer in sampled.wearers[1:]:
+    assert len(sampled.wearers) == 1 + MAX_CORNERS + 4
+    for wearer in sampled.wearers[1 : 1 + MAX_CORNERS]:
         for name, (low, high) in many.items():
             assert low <= wearer.targets.girth[name] <= high
+
+
+def test_the_shape_wearers_pin_the_body_model_s_extremes_at_the_centre_s_girths():
+    centre = chart_targets(LEG_CHART, "S")
+    shapes = range_wearers(centre, centre.ranges).wearers[-4:]
+    assert [w.name for w in shapes] == [
+        "centre_muscle_min",
+        "centre_muscle_max",
+        "centre_proportions_min",
+        "centre_proportions_max",
+    ]
+    assert [w.targets.pinned for w in shapes] == [
+        {"muscle": 0.0},
+        {"muscle": 1.0},
+        {"proportions": 0.0},
+        {"proportions": 1.0},
+    ]
+    for wearer in shapes:
+        assert wearer.targets.girth == centre.girth and wearer.targets.stature == centre.stature
 
 
 POPULATIONS = {

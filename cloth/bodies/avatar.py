@@ -135,6 +135,9 @@ class ChartTargets:
     #: girth lines measured but not fitted: the body model's own, given the others (a wearer's
     #: girths that neither her population nor the size's ranges set, `cloth.bodies.wearers`)
     free: tuple[str, ...] = ()
+    #: phenotype parameters held at a value rather than fitted (``muscle``, ``proportions``:
+    #: a wearer at an extreme of the body model's shape with her girths, `cloth.bodies.wearers`)
+    pinned: dict[str, float] = field(default_factory=dict)
 
     @property
     def fitted(self) -> list[str]:
@@ -422,10 +425,12 @@ def fit_targets(targets: ChartTargets, chart: str | Path, posed: bool = True) ->
         groups = dict(LEG_MODIFIERS)
     names = list(targets.girth)
     matched = targets.fitted
+    free = [p for p in FITTED_PHENOTYPE if p not in targets.pinned]
+    fixed = {**FIXED_PHENOTYPE, **targets.pinned}
 
     def unpack(x: NDArray) -> tuple[dict, dict]:
-        fitted = len(FITTED_PHENOTYPE)
-        phenotype = {**FIXED_PHENOTYPE, **dict(zip(FITTED_PHENOTYPE, map(float, x), strict=False))}
+        fitted = len(free)
+        phenotype = {**fixed, **dict(zip(free, map(float, x), strict=False))}
         changes = {
             label: float(value)
             for value, labels in zip(x[fitted:], groups.values(), strict=True)
@@ -445,7 +450,7 @@ def fit_targets(targets: ChartTargets, chart: str | Path, posed: bool = True) ->
         }
         return girth, stature, vertices, heads
 
-    fitted = len(FITTED_PHENOTYPE)
+    fitted = len(free)
     x0 = np.array([0.5] * fitted + [0.0] * len(groups))
 
     def residual(x: NDArray) -> NDArray:
@@ -516,7 +521,7 @@ def _check_reached(avatar: Avatar, girths, x: NDArray, chart) -> None:
             "stature_cm",
         )
     trials = [avatar.girth]
-    phenotypes = len(FITTED_PHENOTYPE)
+    phenotypes = len(FITTED_PHENOTYPE) - len(avatar.targets.pinned)
     for index in range(1, len(x)):  # all but the height
         for end in (0.0 if index < phenotypes else -1.0, 1.0):
             trial = x.copy()

@@ -16,6 +16,9 @@ avatars (`cloth.bodies.avatar.fit_targets`), one `Wearer` each:
   values, and every combination of the minimum and maximum of the girths given as ranges
   (``B_min_C_max``, ...): 1 + 2^k wearers. Past `MAX_CORNERS` corners (k > 3) a scrambled
   Sobol sample of `MAX_CORNERS` points of the box (`scipy.stats.qmc`, seed 0) replaces them.
+* **The body model's shape** (both): the centre wearer's girths and stature at each extreme of
+  its `SHAPES`, muscle and proportions held at 0 and at 1 instead of fitted
+  (``centre_muscle_min``, ...; `shape_wearers`): 4 more, where the model reaches them.
 
 A population's wearer's girths that neither the file nor the size's ranges set (the torso's
 underbust: the survey does not measure it, the chart gives it as one value) are left to the
@@ -41,6 +44,9 @@ from cloth.errors import InputError
 LOW, HIGH = 0.05, 0.95
 #: Most corners of the chart's ranges; past it a space-filling sample of this many points.
 MAX_CORNERS = 8
+#: The body model's shape parameters whose extremes (0 and 1) are a further axis at the centre
+#: wearer's girths.
+SHAPES = ("muscle", "proportions")
 
 
 @dataclass(frozen=True)
@@ -97,6 +103,20 @@ def wearer_targets(
         stature=centre.stature if stature is None else float(stature),
         span=(centre.span[0] * scale, centre.span[1] * scale),
     )
+
+
+def shape_wearers(centre: Wearer) -> list[Wearer]:
+    """The centre wearer at each extreme of the body model's `SHAPES`, her girths and stature
+    unchanged: ``centre_muscle_min``, ``centre_muscle_max``, ... (module docstring)."""
+    out = []
+    for shape in SHAPES:
+        for end, value in (("min", 0.0), ("max", 1.0)):
+            name = f"{centre.name}_{shape}_{end}"
+            targets = replace(
+                centre.targets, size=f"{centre.targets.size}_{shape}_{end}", pinned={shape: value}
+            )
+            out.append(Wearer(name, targets, centre.quantiles))
+    return out
 
 
 def population_wearers(
@@ -158,6 +178,7 @@ def population_wearers(
             out.append(
                 make(f"{name}_p{round(100 * q)}", at, {**dict.fromkeys(shared, 0.5), name: q})
             )
+    out += shape_wearers(out[0])
     inside = np.ones(len(w), dtype=bool)
     for name in shared:
         inside &= (values[name] >= ends[name][0]) & (values[name] <= ends[name][1])
@@ -194,6 +215,7 @@ def range_wearers(centre: ChartTargets, ranges: Mapping[str, tuple[float, float]
                 for n, t in zip(names, point, strict=True)
             }
             out.append(Wearer(label, wearer_targets(centre, girths, None, label)))
+    out += shape_wearers(out[0])
     return Wearers(tuple(out), "ranges", tuple(names))
 
 

@@ -13,11 +13,11 @@ from cloth.bodies.torso import DEFAULT_CHART, chart_size, torso_mesh
 from cloth.bodies.wearers import population_wearers, range_wearers
 from cloth.errors import InputError
 from cloth.figures.plots import plot_material
-from cloth.files.avatar import avatar_output, write_avatar
+from cloth.files.avatar import avatar_output, sidecar, write_avatar
 from cloth.files.material import material_dataset
 from cloth.files.population import AGES, read_population
 from cloth.files.wearers import DEFAULT_POPULATION, index_record, write_index
-from cloth.io import atomic_output, write_netcdf
+from cloth.io import atomic_output, sha256, write_netcdf
 from cloth.materials.labtables import ingest
 from cloth.progress import progress
 
@@ -137,6 +137,10 @@ def wearers_folder(
     output.mkdir(parents=True, exist_ok=True)
     fitted: dict[str, str] = {}
     for wearer in progress(wearers.wearers, desc=f"wearers of {size}", unit="avatar"):
+        if _fitted_before(output / f"{wearer.name}.ply", wearer.targets, chart):
+            fitted[wearer.name] = f"{wearer.name}.ply"
+            log.info("wearer %s of size %s: fitted before, kept", wearer.name, size)
+            continue
         try:
             avatar = fit_targets(wearer.targets, chart)
         except InputError as exc:
@@ -149,6 +153,22 @@ def wearers_folder(
     write_index(record, output)
     log.info("wrote %s: %d wearers of size %s", output, len(fitted), size)
     return record
+
+
+def _fitted_before(mesh: Path, targets, chart: Path) -> bool:
+    """Whether ``mesh`` is an avatar of this chart (sha256) fitted to ``targets`` (its size
+    label, girths, stature and pinned shape), so that a folder regenerated after new wearers
+    were added refits only those (a fit is deterministic: it would write the same bytes)."""
+    record = sidecar(mesh) if mesh.is_file() else None
+    if record is None or record.get("chart_sha256") != sha256(chart):
+        return False
+    girths = record.get("girths_m", {})
+    same = record.get("size") == targets.size and all(
+        girths.get(name, {}).get("chart") == (None if name in targets.free else value)
+        for name, value in targets.girth.items()
+    )
+    pinned = all(record.get("parameters", {}).get(k) == v for k, v in targets.pinned.items())
+    return same and pinned and record.get("stature_m", {}).get("chart") == targets.stature
 
 
 def _write_mesh(vertices, faces, output: Path, what: str, girth: dict[str, float]) -> None:
