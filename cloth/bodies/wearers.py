@@ -112,9 +112,8 @@ def shape_wearers(centre: Wearer) -> list[Wearer]:
     for shape in SHAPES:
         for end, value in (("min", 0.0), ("max", 1.0)):
             name = f"{centre.name}_{shape}_{end}"
-            targets = replace(
-                centre.targets, size=f"{centre.targets.size}_{shape}_{end}", pinned={shape: value}
-            )
+            size = f"{centre.targets.size.split('/')[0]}/{name}"
+            targets = replace(centre.targets, size=size, pinned={shape: value})
             out.append(Wearer(name, targets, centre.quantiles))
     return out
 
