@@ -44,7 +44,7 @@ def tape(mesh: trimesh.Trimesh, z: float, near: np.ndarray) -> float:
     """A tape around the part at height z nearest ``near`` (xy): trimesh's section, split into
     its closed curves, the one whose centre is nearest, and the perimeter of its convex hull."""
     section = mesh.section(plane_origin=[0, 0, z], plane_normal=[0, 0, 1])
-    curves = [section.discrete[k][:, :2] for k in range(len(section.entities))]
+    curves = [curve[:, :2] for curve in section.discrete]
     centre = [np.linalg.norm(c.mean(axis=0) - near) for c in curves]
     points = curves[int(np.argmin(centre))]
     hull = points[ConvexHull(points).vertices]

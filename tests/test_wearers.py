@@ -51,7 +51,7 @@ def tape(mesh: trimesh.Trimesh, z: float, near: np.ndarray | None) -> float:
     if near is not None:
         return part_tape(mesh, z, near)
     section = mesh.section(plane_origin=[0, 0, z], plane_normal=[0, 0, 1])
-    points = np.concatenate([section.discrete[k][:, :2] for k in range(len(section.entities))])
+    points = np.concatenate([curve[:, :2] for curve in section.discrete])
     hull = points[ConvexHull(points).vertices]
     return float(np.sum(np.linalg.norm(np.roll(hull, -1, axis=0) - hull, axis=1)))
 
