@@ -441,3 +441,77 @@ def test_the_variation_runs_each_value_on_the_centre_wearer_once():
     )
     with pytest.raises(InputError, match="tissue_thickness"):
         variation_cases({**data, "variation": {"tissue_modulus": [2e4]}}, centre, "centre")
+
+
+# --- robust design ----------------------------------------------------------------------------
+
+
+def test_the_min_max_step_of_a_linear_model_is_its_exact_optimum():
+    """Two wearers 10 mmHg apart, each p = a + 100 theta (mmHg), band 25-35: the min-max puts
+    them at 25 and 35 (theta 0.15, t = 1) in one step from 0.12."""
+    from cloth.stages.robust import measure, minmax_step
+
+    means = np.array([[10.0 + 12.0], [20.0 + 12.0]]) * MMHG
+    jacobians = np.array([[[100.0]], [[100.0]]]) * MMHG
+    bands = np.array([[25.0, 35.0]]) * MMHG
+    step, t = minmax_step(means, jacobians, bands, np.array([0.12]), np.array([0.6]))
+    assert step == pytest.approx([0.03], abs=1e-9) and t == pytest.approx(1.0, abs=1e-9)
+    assert measure(means + jacobians[:, :, 0] * step[0], bands) == pytest.approx(1.0)
+
+
+def test_a_band_target_is_parsed_in_its_unit():
+    from cloth.results.targets import Target
+
+    target = Target.parse("B=23:32")
+    assert target.band == pytest.approx((23 * MMHG, 32 * MMHG))
+    assert target.pressure == pytest.approx(27.5 * MMHG)
+    assert Target.parse("B=3:4kPa").band == pytest.approx((3000.0, 4000.0))
+    for bad in ("B=32:23", "B=0:10", "B=x:3"):
+        with pytest.raises(InputError):
+            Target.parse(bad)
+
+
+def test_a_band_without_wearers_is_refused_in_one_line(leg_wearers):
+    root = leg_wearers
+    done = _cloth("design", str(root / "case.yaml"), "--target", "B=23:32", "-o", str(root / "x"))
+    assert done.returncode == 2 and "--wearers" in done.stderr
+    assert len(done.stderr.strip().splitlines()) == 1 and not (root / "x").exists()
+
+
+def _robust(root: Path, band: str, out: str) -> subprocess.CompletedProcess:
+    case, wearers = str(root / "case.yaml"), str(root / "two")
+    command = ["--log-level", "ERROR", "design", case, "--wearers", wearers, "--target", band]
+    return _cloth(*command, "-o", str(root / out))
+
+
+@pytest.mark.slow
+def test_the_robust_design_puts_every_wearer_in_the_band_from_scratch(leg_wearers):
+    """robust.csv says met, and every wearer's confirmed B, read from her own run's result.nc,
+    is inside 15-45 mmHg; the designed case is the size's body with the profile."""
+    root = leg_wearers
+    done = _robust(root, "B=15:45", "robust")
+    assert done.returncode == 0, done.stderr[-2000:]
+    (row,) = list(csv.DictReader((root / "robust" / "robust.csv").open()))
+    assert row["landmark"] == "B" and row["met"] == "1" and float(row["t"]) <= 1.0
+    assert row["shortfall"] == ""
+    values = []
+    for name in ("centre", "B_max_C_min"):
+        with xr.open_dataset(root / "robust" / "confirmed" / name / "result.nc") as ds:
+            values.append(float(ds["pressure_mean"].sel(landmark="B")) / MMHG)
+    assert all(15 <= v <= 45 for v in values)
+    assert float(row["confirmed_min_mmHg"]) == pytest.approx(min(values), abs=1e-4)
+    assert float(row["confirmed_max_mmHg"]) == pytest.approx(max(values), abs=1e-4)
+    designed = yaml.safe_load((root / "robust" / "case.yaml").read_text())
+    assert designed["body"]["leg"]["size"] == "S" and "B" in designed["garment"]["reduction"]
+
+
+@pytest.mark.slow
+def test_a_band_no_profile_can_hold_is_refused_naming_the_line_and_wearers(leg_wearers):
+    root = leg_wearers
+    done = _robust(root, "B=27:28", "narrow")
+    assert done.returncode == 2
+    line = done.stderr.strip().splitlines()
+    assert len(line) == 1 and "B:" in line[0] and "narrowest band" in line[0], line
+    assert "centre" in line[0] and "B_max_C_min" in line[0]
+    (row,) = list(csv.DictReader((root / "narrow" / "robust.csv").open()))
+    assert row["met"] == "0" and float(row["spread_mmHg"]) > 1.0 and row["shortfall"]
