@@ -243,3 +243,24 @@ def test_a_bad_wearers_entry_is_refused_naming_its_key(entry, field):
     with pytest.raises(InputError) as error:
         make_plan(config, ROOT)
     assert error.value.field.startswith(field), error.value
+
+
+def test_a_wearers_entry_s_variation_is_one_more_case_per_value_on_the_centre_wearer():
+    config = copy.deepcopy(STOCKING)
+    config["wearers"] = {
+        "v": {
+            "material": "powernet",
+            "body": "leg_S",
+            "reduction": 0.16,
+            "variation": {"friction": [0.0, 0.3]},
+        }
+    }
+    plan = make_plan(config, ROOT)
+    name = plan.wearers["v"].cases["centre~mu0.3"]
+    case, centre = plan.cases[name], plan.cases[plan.wearers["v"].cases["centre"]]
+    assert case.contact.friction == 0.3 and not case.solver.continuation
+    assert case.body.option("mesh") == centre.body.option("mesh")
+    config["wearers"]["v"]["variation"] = {"tissue_modulus": [2e4]}
+    with pytest.raises(InputError) as error:
+        make_plan(config, ROOT)
+    assert error.value.field == "wearers.v.variation.tissue_thickness"

@@ -414,7 +414,7 @@ def test_the_variation_runs_each_value_on_the_centre_wearer_once():
     case: three runs of the centre wearer, each with its one setting, the solver's path
     defaults left to the skin (friction needs the path from the wrap)."""
     from cloth.case import Case
-    from cloth.stages.wearers import variation_cases
+    from cloth.pipeline.variants import variation_cases
 
     data = {
         "material": "powernet",

@@ -20,11 +20,14 @@ per varied key (`cloth.pipeline.sweep.collect`).
 
 from __future__ import annotations
 
+import copy
 import itertools
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
+
+from cloth.errors import InputError
 
 #: The variant keys, as index entries, design rows and sweep.nc dimensions name them.
 KEYS = ("tissue_modulus", "friction", "worn", "lengthwise_reduction")
@@ -149,3 +152,49 @@ def sweep_variants(sweep: Mapping[str, Any]) -> list[tuple[dict, Variant]]:
 def entry_keys(index: list[dict]) -> list[str]:
     """The variant keys the entries of a sweep index carry."""
     return [key for key in KEYS if index and key in index[0]]
+
+
+def variation_cases(data: dict, block: dict, wearer: str) -> dict[str, dict]:
+    """Name -> case mapping of each value of the case's ``variation`` (friction, tissue
+    modulus, worn) run on ``wearer``'s case ``block``, one at a time: ``{wearer}~mu0.4``,
+    ``{wearer}~tissue20000``, ``{wearer}~worn``; a value the case has already is left out."""
+    spec = data.get("variation") or {}
+    thickness = spec.get("tissue_thickness")
+    if spec.get("tissue_modulus") and thickness is None:
+        raise InputError(
+            "variation.tissue_modulus needs variation.tissue_thickness (m), the layer's thickness",
+            None,
+            "variation.tissue_thickness",
+        )
+    friction = float((data.get("contact") or {}).get("friction", 0.0))
+    tissue = (data["body"].get("tissue") or {}).get("modulus")
+    worn = bool(data["garment"].get("worn", False))
+    runs = [
+        *(
+            (f"mu{v:g}", Variant(friction=float(v)))
+            for v in spec.get("friction", [])
+            if v != friction
+        ),
+        *(
+            (f"tissue{v:g}", Variant(tissue_modulus=float(v)))
+            for v in spec.get("tissue_modulus", [])
+            if v != tissue
+        ),
+        *(("worn", Variant(worn=True)) for v in spec.get("worn", []) if v and not worn),
+        *(("new", None) for v in spec.get("worn", []) if not v and worn),
+    ]
+    out = {}
+    for tag, variant in runs:
+        varied = copy.deepcopy(block)
+        if variant is None:  # the new garment of a worn case
+            varied["garment"]["worn"] = False
+        else:
+            varied = variant.apply(varied, thickness)
+        if variant is not None and variant.friction == 0.0 and "contact" in varied:
+            varied["contact"] = {**varied["contact"], "friction": 0.0}
+        solver = dict(varied.get("solver") or {})
+        for key in ("continuation", "reuse"):  # their defaults follow the skin (Case)
+            solver.pop(key, None)
+        varied["solver"] = solver
+        out[f"{wearer}~{tag}"] = varied
+    return out

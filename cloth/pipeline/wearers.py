@@ -5,7 +5,9 @@ An entry names a body of the config with a size (a torso, leg or avatar of a cha
 wearers ship, or ``folder``: a folder ``cloth body wearers`` wrote), a material and the
 garment's reduction; the sweep's garment and solver with the entry's ``garment`` keys over
 them. The garment is cut for that body and worn unchanged by each wearer (`cloth.garment.cut`).
-Cases: ``wearers__{entry}__size`` (the body it is cut for) and ``wearers__{entry}__{wearer}``;
+Cases: ``wearers__{entry}__size`` (the body it is cut for) and ``wearers__{entry}__{wearer}``,
+and with the entry's ``variation`` each of its values on the centre wearer
+(``wearers__{entry}__centre~mu0.4``, `cloth.pipeline.variants.variation_cases`);
 each runs through the pipeline's rules as any case (write_case, predeform, relax, aggregate;
 no figures), and the rule ``wearers`` gathers their result.nc into
 ``{results}/wearers/{entry}/``: wearers.csv, wearers.nc and wearers.png
@@ -22,6 +24,7 @@ from cloth.bodies.torso import DEFAULT_CHART
 from cloth.case import Case
 from cloth.errors import InputError
 from cloth.files.wearers import DEFAULT_POPULATION, INDEX, read_index, shipped_wearers
+from cloth.pipeline.variants import variation_cases
 from cloth.results.targets import Target
 
 #: The case of the body the garment is cut for (`cloth.stages.wearers.SIZE`).
@@ -114,6 +117,16 @@ def wearers_blocks(plan, entry: str) -> tuple[dict[str, dict], str]:
         if "mesh" in wearer:
             mesh = str((folder / wearer["mesh"]).resolve())
             blocks[wearer["name"]] = {**base, "body": {"mesh": mesh, **options}}
+    centre = "centre" if "centre" in blocks else next((n for n in blocks if n != SIZE), None)
+    if "variation" in spec and centre is not None:
+        try:
+            blocks.update(
+                variation_cases(
+                    {**base, "body": own, "variation": spec["variation"]}, blocks[centre], centre
+                )
+            )
+        except InputError as exc:
+            raise InputError(exc.detail, "config", f"{where}.{exc.field}") from None
     return blocks, str(folder / INDEX)
 
 

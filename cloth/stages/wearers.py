@@ -30,7 +30,6 @@ no value there (NaN; blank in the CSV).
 
 from __future__ import annotations
 
-import copy
 import csv
 import logging
 from pathlib import Path
@@ -48,7 +47,7 @@ from cloth.errors import InputError
 from cloth.files.wearers import DEFAULT_POPULATION, read_index, shipped_wearers
 from cloth.io import atomic_output, global_attrs, variable, write_netcdf
 from cloth.pipeline.config import load_case
-from cloth.pipeline.variants import Variant
+from cloth.pipeline.variants import variation_cases
 from cloth.progress import progress
 from cloth.results.pressure import MMHG
 from cloth.stages.case import run_case
@@ -114,52 +113,6 @@ def wearer_cases(case: Case, folder: Path, index: dict) -> dict[str, dict]:
     centre = "centre" if "centre" in out else next((n for n in out if n != SIZE), None)
     if centre is not None:
         out.update(variation_cases(data, out[centre], centre))
-    return out
-
-
-def variation_cases(data: dict, block: dict, wearer: str) -> dict[str, dict]:
-    """Name -> case mapping of each value of the case's ``variation`` (friction, tissue
-    modulus, worn) run on ``wearer``'s case ``block``, one at a time: ``{wearer}~mu0.4``,
-    ``{wearer}~tissue20000``, ``{wearer}~worn``; a value the case has already is left out."""
-    spec = data.get("variation") or {}
-    thickness = spec.get("tissue_thickness")
-    if spec.get("tissue_modulus") and thickness is None:
-        raise InputError(
-            "variation.tissue_modulus needs variation.tissue_thickness (m), the layer's thickness",
-            None,
-            "variation.tissue_thickness",
-        )
-    friction = float((data.get("contact") or {}).get("friction", 0.0))
-    tissue = (data["body"].get("tissue") or {}).get("modulus")
-    worn = bool(data["garment"].get("worn", False))
-    runs = [
-        *(
-            (f"mu{v:g}", Variant(friction=float(v)))
-            for v in spec.get("friction", [])
-            if v != friction
-        ),
-        *(
-            (f"tissue{v:g}", Variant(tissue_modulus=float(v)))
-            for v in spec.get("tissue_modulus", [])
-            if v != tissue
-        ),
-        *(("worn", Variant(worn=True)) for v in spec.get("worn", []) if v and not worn),
-        *(("new", None) for v in spec.get("worn", []) if not v and worn),
-    ]
-    out = {}
-    for tag, variant in runs:
-        varied = copy.deepcopy(block)
-        if variant is None:  # the new garment of a worn case
-            varied["garment"]["worn"] = False
-        else:
-            varied = variant.apply(varied, thickness)
-        if variant is not None and variant.friction == 0.0 and "contact" in varied:
-            varied["contact"] = {**varied["contact"], "friction": 0.0}
-        solver = dict(varied.get("solver") or {})
-        for key in ("continuation", "reuse"):  # their defaults follow the skin (Case)
-            solver.pop(key, None)
-        varied["solver"] = solver
-        out[f"{wearer}~{tag}"] = varied
     return out
 
 
