@@ -20,6 +20,8 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+from cloth.bodies.leg import DEFAULT_LEG_CHART
+from cloth.bodies.torso import DEFAULT_CHART
 from cloth.bodies.wearers import Wearers
 from cloth.errors import InputError
 from cloth.io import atomic_output, sha256
@@ -127,10 +129,41 @@ def shipped_wearers(
     return None
 
 
+def body_wearers(body: dict, resolve, field: str, how: str) -> tuple[Path, dict]:
+    """The shipped wearers folder of a body block with a size (a torso, leg or avatar of a
+    chart: its chart's wearers, from the torso's default population or the chart's ranges) and
+    its index; ``resolve`` finds the block's chart path. One line at ``field`` where the body has
+    no size or none ship, ending with ``how`` a user gives a folder instead."""
+    kind = next((k for k in ("torso", "leg", "avatar") if k in body), None)
+    spec = body.get(kind, {}) if kind else {}
+    if "size" not in spec:
+        raise InputError(
+            "the body has no size, so it has no wearers; give a torso, leg or avatar body with "
+            f"a size, or {how}",
+            None,
+            field,
+        )
+    chart = Path(resolve(spec["chart"])) if "chart" in spec else None
+    if chart is None:
+        chart = DEFAULT_LEG_CHART if kind == "leg" else DEFAULT_CHART
+    for population in (DEFAULT_POPULATION, None):
+        found = shipped_wearers(chart, spec["size"], population)
+        if found is not None:
+            return found, read_index(found)
+    raise InputError(
+        f"no wearers of size {spec['size']} ship for {chart}; make them with `cloth body "
+        f"wearers {chart} --size {spec['size']} -o DIR` (pip install 'cloth[bodies]') and give "
+        f"{how}",
+        None,
+        field,
+    )
+
+
 __all__ = [
     "DEFAULT_POPULATION",
     "INDEX",
     "SHIPPED",
+    "body_wearers",
     "index_record",
     "read_index",
     "shipped_wearers",

@@ -19,11 +19,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
-from cloth.bodies.leg import DEFAULT_LEG_CHART
-from cloth.bodies.torso import DEFAULT_CHART
 from cloth.case import Case
 from cloth.errors import InputError
-from cloth.files.wearers import DEFAULT_POPULATION, INDEX, read_index, shipped_wearers
+from cloth.files.wearers import INDEX, body_wearers, read_index
 from cloth.pipeline.variants import variation_cases
 from cloth.results.targets import Target
 
@@ -61,27 +59,10 @@ def wearers_folder(body: dict, folder: str | None, where: str, data_path) -> tup
             return path, read_index(path)
         except InputError as exc:
             raise InputError(exc.detail, "config", f"{where}.folder") from None
-    kind = next((k for k in ("torso", "leg", "avatar") if k in body), None)
-    spec = body.get(kind, {}) if kind else {}
-    if "size" not in spec:
-        raise InputError(
-            "the body has no size, so it has no wearers; give a torso, leg or avatar body with "
-            "a size, or folder (cloth body wearers)",
-            "config",
-            f"{where}.body",
-        )
-    default = DEFAULT_LEG_CHART if kind == "leg" else DEFAULT_CHART
-    chart = Path(data_path(spec["chart"])) if "chart" in spec else default
-    for population in (DEFAULT_POPULATION, None):
-        found = shipped_wearers(chart, spec["size"], population)
-        if found is not None:
-            return found, read_index(found)
-    raise InputError(
-        f"no wearers of size {spec['size']} ship for {chart}; make them with `cloth body "
-        f"wearers {chart} --size {spec['size']} -o DIR` and give folder: DIR",
-        "config",
-        f"{where}.body",
-    )
+    try:
+        return body_wearers(body, data_path, f"{where}.body", "folder: DIR")
+    except InputError as exc:
+        raise InputError(exc.detail, "config", exc.field) from None
 
 
 def wearers_blocks(plan, entry: str) -> tuple[dict[str, dict], str]:

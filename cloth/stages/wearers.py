@@ -38,13 +38,10 @@ import numpy as np
 import xarray as xr
 import yaml
 
-from cloth.bodies.leg import DEFAULT_LEG_CHART
-from cloth.bodies.torso import DEFAULT_CHART as DEFAULT_TORSO_CHART
 from cloth.case import Case
 from cloth.case.judge import Judge
 from cloth.case.locations import relocated
-from cloth.errors import InputError
-from cloth.files.wearers import DEFAULT_POPULATION, read_index, shipped_wearers
+from cloth.files.wearers import body_wearers, read_index
 from cloth.io import atomic_output, global_attrs, variable, write_netcdf
 from cloth.pipeline.config import load_case
 from cloth.pipeline.variants import variation_cases
@@ -65,29 +62,11 @@ def wearers_of(case: Case, base_dir: Path, wearers: Path | None) -> tuple[Path, 
     size) and its index; one line where the body has no size or none ship."""
     if wearers is not None:
         return wearers, read_index(wearers)
-    kind, block = case.body.kind, case.body.block
-    spec = block.get(kind, {}) if kind in ("torso", "leg", "avatar") else {}
-    if "size" not in spec:
-        raise InputError(
-            "the case's body has no size, so it has no wearers; give a torso, leg or avatar "
-            "body with a size, or --wearers DIR (cloth body wearers)",
-            None,
-            "body",
-        )
-    default = DEFAULT_LEG_CHART if kind == "leg" else DEFAULT_TORSO_CHART
-    chart = Path(spec["chart"]) if "chart" in spec else default
-    if not chart.is_absolute() and "chart" in spec:
-        chart = base_dir / chart
-    for population in (DEFAULT_POPULATION, None):
-        found = shipped_wearers(chart, spec["size"], population)
-        if found is not None:
-            return found, read_index(found)
-    raise InputError(
-        f"no wearers of size {spec['size']} ship for {chart}; make them with `cloth body "
-        f"wearers {chart} --size {spec['size']} -o DIR` (pip install 'cloth[bodies]') and "
-        "give --wearers DIR",
-        None,
+    return body_wearers(
+        case.body.block,
+        lambda chart: base_dir / Path(chart).expanduser(),
         "body",
+        "--wearers DIR (cloth body wearers)",
     )
 
 
