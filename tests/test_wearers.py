@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import csv
 import json
+import os
 import shutil
 import subprocess
 import sys
@@ -523,3 +524,65 @@ def test_a_band_no_profile_can_hold_is_refused_naming_the_line_and_wearers(leg_w
     assert "centre" in line[0] and "B_max_C_min" in line[0]
     (row,) = list(csv.DictReader((root / "narrow" / "robust.csv").open()))
     assert row["met"] == "0" and float(row["spread_mmHg"]) > 1.0 and row["shortfall"]
+
+
+@pytest.mark.slow
+def test_the_pipeline_runs_a_job_per_wearer_and_gathers_them(tmp_path):
+    """A config's wearers entry: one relax job per wearer and one for the size's body, and
+    wearers.nc's values are each case's own result.nc, bit for bit."""
+    config = {
+        "materials": {"powernet": {"table": str(ROOT / "data/materials/powernet.csv"), "knots": 6}},
+        "bodies": {"leg_S": {"leg": {"size": "S"}}},
+        "sweep": {
+            "materials": ["powernet"],
+            "bodies": ["leg_S"],
+            "reductions": [0.16],
+            "garment": {
+                "bottom": 0.09,
+                "top": 0.5,
+                "grid": [12, 14],
+                "lengthwise_reduction": 0.15,
+                "error_estimate": False,
+            },
+            "solver": {"method": "newton", "tolerance": 1e-8, "max_iterations": 150},
+        },
+        "wearers": {"S": {"material": "powernet", "body": "leg_S", "reduction": 0.16}},
+        "results": str(tmp_path / "results"),
+    }
+    (tmp_path / "config.yaml").write_text(yaml.safe_dump(config))
+    target = tmp_path / "results" / "wearers" / "S" / "wearers.csv"
+    done = subprocess.run(
+        [
+            str(Path(sys.executable).parent / "snakemake"),
+            str(target),
+            "-s",
+            str(ROOT / "Snakefile"),
+            "--cores",
+            "2",
+            "--configfile",
+            str(tmp_path / "config.yaml"),
+        ],
+        capture_output=True,
+        text=True,
+        cwd=tmp_path,
+        env={
+            **os.environ,
+            "PATH": f"{Path(sys.executable).parent}{os.pathsep}{os.environ['PATH']}",
+        },
+    )
+    assert done.returncode == 0, done.stderr[-3000:]
+    index = json.loads((SHIPPED / "leg_S" / "wearers.json").read_text())
+    fitted = [w["name"] for w in index["wearers"] if "mesh" in w]
+    relaxed = done.stderr.count("rule relax:") + done.stdout.count("rule relax:")
+    assert relaxed == len(fitted) + 1
+    with xr.open_dataset(target.with_suffix(".nc")) as ds:
+        table = ds.load()
+    assert [str(n) for n in table["wearer"].values] == ["size", *fitted]
+    for name in ["size", *fitted]:
+        case = tmp_path / "results" / "cases" / f"wearers__S__{name}" / "result.nc"
+        with xr.open_dataset(case) as own:
+            mine = own["pressure_mean"].load()
+        for line in mine["landmark"].values:
+            assert float(table["pressure_mean"].sel(wearer=name, landmark=line)) == float(
+                mine.sel(landmark=line)
+            )
