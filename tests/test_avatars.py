@@ -220,3 +220,20 @@ def test_a_girth_the_model_cannot_reach_is_refused_naming_it_and_its_range(tmp_p
     assert "cannot reach the waist girth of 20.0 cm at 104.0 cm" in lines[0], lines
     assert "spans" in lines[0] and "waist_cm" in lines[0]
     assert list(tmp_path.iterdir()) == [chart]
+
+
+def test_an_avatar_case_written_back_validates_again():
+    """An avatar case's mapping (what case.yaml files the tool writes hold) carries no mesh
+    option the avatar refuses, so a written case runs as written (cloth design, cloth wearers)."""
+    from cloth.pipeline.config import validate_case
+
+    case = validate_case(
+        {
+            "material": "powernet",
+            "body": {"avatar": {"size": "S"}, "smoothing": 0.012},
+            "garment": {"bottom": 0.9, "top": 1.15, "reduction": 0.15, "grid": [24, 8]},
+        }
+    )
+    body = case.to_dict()["body"]
+    assert "units" not in body and "up" not in body and body["smoothing"] == 0.012
+    assert validate_case(case.to_dict()) == case

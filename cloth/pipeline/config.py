@@ -226,14 +226,14 @@ def _check_body(body: dict[str, Any], source: str | Path, field: str) -> list[st
 
 def _body_defaults(body: dict[str, Any], kind: str) -> None:
     """A body block's mesh keys: their defaults for a mesh or avatar, none for another kind."""
-    if kind in ("mesh", "avatar"):
-        for key in MESH_ONLY if kind == "mesh" else AVATAR_TOO:
-            spec = case_schema()["properties"]["body"]["properties"][key]
-            if "default" in spec:
-                body.setdefault(key, spec["default"])
-    else:
-        for key in MESH_ONLY:
+    keep = MESH_ONLY if kind == "mesh" else AVATAR_TOO if kind == "avatar" else ()
+    for key in MESH_ONLY:
+        if key not in keep:  # the schema's defaults, filled for every kind: not this one's
             body.pop(key, None)
+    for key in keep:
+        spec = case_schema()["properties"]["body"]["properties"][key]
+        if "default" in spec:
+            body.setdefault(key, spec["default"])
 
 
 def _text_keys(case: dict[str, Any]) -> dict[str, Any]:

@@ -30,6 +30,7 @@ no value there (NaN; blank in the CSV).
 
 from __future__ import annotations
 
+import copy
 import csv
 import logging
 from pathlib import Path
@@ -76,7 +77,7 @@ def wearer_cases(case: Case, folder: Path, index: dict) -> dict[str, dict]:
     data = case.to_dict()
     garment = data["garment"]
     if "pattern" not in garment:
-        garment["pattern"] = {"body": data["body"]}
+        garment["pattern"] = {"body": copy.deepcopy(data["body"])}
     out = {SIZE: data}
     options = {k: data["body"][k] for k in MESH_OPTIONS if k in data["body"]}
     for wearer in index["wearers"]:
