@@ -40,6 +40,9 @@ from numpy.typing import NDArray
 from cloth.bodies.avatar import ChartTargets
 from cloth.errors import InputError
 
+#: The name, among a size's wearers' runs, of the size's own body (the body a garment is cut
+#: for: the chart's torso or leg, an avatar), which `cloth wearers` runs beside them.
+SIZE = "size"
 #: Quantiles (0-1) of a population's wearers at the ends of each measure.
 LOW, HIGH = 0.05, 0.95
 #: Most corners of the chart's ranges; past it a space-filling sample of this many points.
@@ -222,6 +225,7 @@ __all__ = [
     "HIGH",
     "LOW",
     "MAX_CORNERS",
+    "SIZE",
     "Wearer",
     "Wearers",
     "population_wearers",

@@ -15,12 +15,10 @@ import matplotlib.pyplot as plt
 import numpy as np
 import xarray as xr
 
+from cloth.bodies.wearers import SIZE
 from cloth.case.judge import Judge
 from cloth.io import atomic_output
 from cloth.results.pressure import MMHG
-
-#: The wearer folder of the body the garment was cut for (`cloth.stages.wearers.SIZE`).
-SIZE = "size"
 
 
 def plot_wearers(ds: xr.Dataset, judge: Judge, path: Path) -> Path:

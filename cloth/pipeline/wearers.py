@@ -16,18 +16,20 @@ no figures), and the rule ``wearers`` gathers their result.nc into
 
 from __future__ import annotations
 
+import logging
 from dataclasses import dataclass
 from pathlib import Path
 
+from cloth.bodies.wearers import SIZE
 from cloth.case import Case
 from cloth.errors import InputError
 from cloth.files.wearers import INDEX, body_wearers, read_index
 from cloth.pipeline.variants import variation_cases
 from cloth.results.targets import Target
 
-#: The case of the body the garment is cut for (`cloth.stages.wearers.SIZE`).
-SIZE = "size"
-#: Mesh options a wearer takes from an avatar body.
+log = logging.getLogger(__name__)
+
+#: Mesh options a wearer's body takes from the size's avatar body.
 MESH_OPTIONS = ("surface", "smoothing", "spacing")
 
 
@@ -92,23 +94,36 @@ def wearers_blocks(plan, entry: str) -> tuple[dict[str, dict], str]:
     base = {"material": spec["material"], "garment": garment, "solver": sweep.get("solver", {})}
     if "judge" in spec:
         base["judge"] = spec["judge"]
-    blocks = {SIZE: {**base, "body": own}}
-    options = {k: own[k] for k in MESH_OPTIONS if k in own and "avatar" in body}
-    for wearer in index["wearers"]:
-        if "mesh" in wearer:
-            mesh = str((folder / wearer["mesh"]).resolve())
-            blocks[wearer["name"]] = {**base, "body": {"mesh": mesh, **options}}
-    centre = "centre" if "centre" in blocks else next((n for n in blocks if n != SIZE), None)
-    if "variation" in spec and centre is not None:
-        try:
-            blocks.update(
-                variation_cases(
-                    {**base, "body": own, "variation": spec["variation"]}, blocks[centre], centre
-                )
-            )
-        except InputError as exc:
-            raise InputError(exc.detail, "config", f"{where}.{exc.field}") from None
+    if "variation" in spec:
+        base["variation"] = spec["variation"]
+    try:
+        blocks = wearer_blocks({**base, "body": own}, folder, index)
+    except InputError as exc:
+        raise InputError(exc.detail, "config", f"{where}.{exc.field}") from None
     return blocks, str(folder / INDEX)
+
+
+def wearer_blocks(data: dict, folder: Path, index: dict) -> dict[str, dict]:
+    """Name -> case mapping of the size's body (`SIZE`: ``data``, a case mapping whose garment
+    is the pattern every wearer wears) and of every fitted wearer of the wearers ``folder``
+    with ``index``: ``data`` on her mesh, with the size's body's tissue and mesh options; and
+    with ``data``'s ``variation`` each of its values on the centre wearer
+    (`cloth.pipeline.variants.variation_cases`)."""
+    out = {SIZE: data}
+    options = {k: data["body"][k] for k in MESH_OPTIONS if k in data["body"]}
+    tissue = data["body"].get("tissue")
+    for wearer in index["wearers"]:
+        if "mesh" not in wearer:
+            log.warning("wearer %s: not fitted (%s); left out", wearer["name"], wearer["refused"])
+            continue
+        body = {"mesh": str((folder / wearer["mesh"]).resolve()), **options}
+        if tissue is not None:
+            body["tissue"] = tissue
+        out[wearer["name"]] = {**data, "body": body}
+    centre = "centre" if "centre" in out else next((n for n in out if n != SIZE), None)
+    if centre is not None:
+        out.update(variation_cases(data, out[centre], centre))
+    return out
 
 
 def _case(plan, entry: str, wearer: str, block: dict) -> Case:
@@ -149,4 +164,11 @@ def wearer_runs(plan) -> tuple[dict[str, WearersRun], dict[str, Case]]:
     return runs, cases
 
 
-__all__ = ["SIZE", "WearersRun", "case_name", "wearer_runs", "wearers_blocks"]
+__all__ = [
+    "MESH_OPTIONS",
+    "WearersRun",
+    "case_name",
+    "wearer_blocks",
+    "wearer_runs",
+    "wearers_blocks",
+]

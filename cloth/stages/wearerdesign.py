@@ -25,6 +25,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
+from cloth.bodies.wearers import SIZE
 from cloth.errors import InputError
 from cloth.files.body import body_from_record
 from cloth.files.casefile import write_case
@@ -34,7 +35,7 @@ from cloth.results.pressure import MMHG
 from cloth.results.targets import Target
 from cloth.stages.case import initial_state
 from cloth.stages.robust import Robust, robust_design
-from cloth.stages.wearers import SIZE, run_wearers, wearer_cases, wearers_of
+from cloth.stages.wearers import run_wearers, wearer_cases, wearers_of
 
 log = logging.getLogger(__name__)
 

@@ -39,23 +39,19 @@ import numpy as np
 import xarray as xr
 import yaml
 
+from cloth.bodies.wearers import SIZE
 from cloth.case import Case
 from cloth.case.judge import Judge
 from cloth.case.locations import relocated
 from cloth.files.wearers import body_wearers, read_index
 from cloth.io import atomic_output, global_attrs, variable, write_netcdf
 from cloth.pipeline.config import load_case
-from cloth.pipeline.variants import variation_cases
+from cloth.pipeline.wearers import wearer_blocks
 from cloth.progress import progress
 from cloth.results.pressure import MMHG
 from cloth.stages.case import run_case
 
 log = logging.getLogger("cloth")
-
-#: The folder of the body the garment is cut for, beside the wearers'.
-SIZE = "size"
-#: A wearers folder's mesh options a wearer's body takes from an avatar case's body.
-MESH_OPTIONS = ("surface", "smoothing", "spacing")
 
 
 def wearers_of(case: Case, base_dir: Path, wearers: Path | None) -> tuple[Path, dict]:
@@ -78,22 +74,7 @@ def wearer_cases(case: Case, folder: Path, index: dict) -> dict[str, dict]:
     garment = data["garment"]
     if "pattern" not in garment:
         garment["pattern"] = {"body": copy.deepcopy(data["body"])}
-    out = {SIZE: data}
-    options = {k: data["body"][k] for k in MESH_OPTIONS if k in data["body"]}
-    for wearer in index["wearers"]:
-        if "mesh" not in wearer:
-            log.warning("wearer %s: not fitted (%s); left out", wearer["name"], wearer["refused"])
-            continue
-        mesh = str((folder / wearer["mesh"]).resolve())
-        worn = {**data, "body": {"mesh": mesh, **options}}
-        tissue = data["body"].get("tissue")
-        if tissue is not None:
-            worn["body"]["tissue"] = tissue
-        out[wearer["name"]] = worn
-    centre = "centre" if "centre" in out else next((n for n in out if n != SIZE), None)
-    if centre is not None:
-        out.update(variation_cases(data, out[centre], centre))
-    return out
+    return wearer_blocks(data, folder, index)
 
 
 def run_wearers(
