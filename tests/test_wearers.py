@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import csv
 import json
+import math
 import os
 import shutil
 import subprocess
@@ -372,6 +373,15 @@ def test_each_wearers_pressures_are_a_direct_run_of_her_case_bit_for_bit(leg_wea
                 assert got == float(direct["pressure_mean"].sel(landmark=line)), line
 
 
+#: RAL-GZ 387/1's classes at B, by hand (mmHg).
+RAL = {"I": (18, 21), "II": (23, 32), "III": (34, 46), "IV": (49, math.inf)}
+
+
+def grade(mmhg: float) -> str:
+    """The class of a pressure at B, or '-' between and below the classes."""
+    return next((k for k, (lo, hi) in RAL.items() if lo <= mmhg <= hi), "-")
+
+
 @pytest.mark.slow
 def test_wearers_csv_is_the_range_of_wearers_nc(leg_wearers):
     """wearers.csv's min, centre and max per line, in mmHg, are the wearers' values in
@@ -394,6 +404,16 @@ def test_wearers_csv_is_the_range_of_wearers_nc(leg_wearers):
         assert float(row["pressure_max_mmHg"]) == pytest.approx(max(values.values()), abs=1e-4)
         assert float(row["pressure_centre_mmHg"]) == pytest.approx(values["centre"], abs=1e-4)
         assert row["max_wearer"] == max(values, key=values.get)
+        assert row["min_wearer"] == min(values, key=values.get) and row["wearers"] == "2"
+        spread = max(values.values()) - min(values.values())
+        assert float(row["spread_mmHg"]) == pytest.approx(spread, abs=2e-4)
+        if row["landmark"] == "B":
+            assert row["class_min"] == grade(min(values.values()))
+            assert row["class_max"] == grade(max(values.values()))
+        else:
+            assert row["class_min"] == row["class_max"] == ""
+        inside = all(20 <= v <= 30 for v in values.values())  # the case's band "target"
+        assert row["bands_every_wearer"] == ("target" if inside else "-")
         size = float(p.sel(wearer="size", landmark=row["landmark"])) / MMHG
         assert float(row["size_body_mmHg"]) == pytest.approx(size, abs=1e-4)
     assert (root / "out" / "wearers.png").stat().st_size > 10_000
