@@ -358,3 +358,195 @@ def test_mesh_body_pipeline_fits_its_surface_once(tmp_path):
         assert ds.attrs["converged"] == 1
     again = snakemake(where, "-n")
     assert "Nothing to be done" in again.stdout + again.stderr
+
+
+#: 1 mmHg in Pa: 13.5951 g/cm3 x 9.80665 m/s2 x 1 mm (typed here, not the module's constant).
+MMHG = 13.5951e3 * 9.80665 * 1e-3
+#: sweep.csv's columns: result.nc's girth-line variable and the factor into the header's unit.
+SWEEP_COLUMNS = {
+    "pressure_mean_Pa": ("pressure_mean", 1.0),
+    "pressure_mean_mmHg": ("pressure_mean", 1 / MMHG),
+    "pressure_mean_error_mmHg": ("pressure_mean_error", 1 / MMHG),
+    "pressure_max_mmHg": ("pressure_max", 1 / MMHG),
+    "tension_mean_N_per_m": ("tension_mean", 1.0),
+}
+
+
+def _csv(path: Path) -> list[dict[str, str]]:
+    import csv
+
+    with open(path, newline="") as handle:
+        return list(csv.DictReader(handle))
+
+
+def _close(written: str, value: float, rel: float = 1e-5) -> bool:
+    """A CSV cell (6 significant digits) is ``value``; NaN only where it is NaN."""
+    number = float(written)
+    if np.isnan(value):
+        return bool(np.isnan(number))
+    return number == pytest.approx(value, rel=rel, abs=1e-12)
+
+
+def test_the_sweep_s_files_are_each_case_s_result_nc(tiny_run):
+    """sweep.nc and sweep.csv, value by value, against each case's own result.nc (located by
+    the index sweep.nc records), in the unit each header names; the worn column beside the new."""
+    where = tiny_run[0] / "results-ci"
+    with xr.open_dataset(where / "sweep.nc") as sweep:
+        sweep = sweep.load()
+    index = json.loads(sweep.attrs["cases"])
+    keys = ("material", "body", "reduction", "worn", "lengthwise_reduction")
+    assert len(index) == 4 and set(sweep["pressure_mean"].dims) == {*keys, "landmark"}
+    results = {}
+    for entry in index:
+        with xr.open_dataset(where / "cases" / entry["case"] / "result.nc") as ds:
+            results[entry["case"]] = ds = ds.load()
+        at = {key: entry[key] for key in keys}
+        assert int(sweep["converged"].sel(at)) == ds.attrs["converged"]
+        for name in ("pressure_mean", "pressure_max", "pressure_min", "tension_mean"):
+            for field in (name, f"{name}_error"):
+                np.testing.assert_array_equal(
+                    sweep[field].sel(at).sel(landmark=ds["landmark"].values).values,
+                    ds[field].values,
+                )
+    rows = _csv(where / "sweep.csv")
+    assert len(rows) == 4
+    for row in rows:
+        new, worn = (
+            next(
+                e
+                for e in index
+                if e["reduction"] == float(row["reduction"])
+                and e["worn"] == flag
+                and e["lengthwise_reduction"] == float(row["lengthwise_reduction"])
+            )
+            for flag in (0, 1)
+        )
+        ds = results[new["case"]].sel(landmark=row["landmark"])
+        assert (row["material"], row["body"]) == (new["material"], new["body"])
+        for column, (name, factor) in SWEEP_COLUMNS.items():
+            assert _close(row[column], float(ds[name]) * factor), column
+        assert int(row["converged"]) == results[new["case"]].attrs["converged"]
+        worn_mean = float(results[worn["case"]]["pressure_mean"].sel(landmark=row["landmark"]))
+        assert _close(row["pressure_mean_mmHg_worn"], worn_mean / MMHG)
+        change = 100 * (worn_mean / float(ds["pressure_mean"]) - 1)
+        assert _close(row["worn_change_percent"], change, rel=1e-5)
+    checked = {*keys, "landmark", "converged", "pressure_mean_mmHg_worn", "worn_change_percent"}
+    assert set(rows[0]) == (checked | set(SWEEP_COLUMNS)) - {"worn"}
+
+
+def test_the_design_s_files_are_the_sweep_interpolated_by_hand(tiny_run):
+    """design.csv's answer, slope and interval from sweep.csv's two reductions by hand; its
+    confirmation's pressure and error from the confirmation case's own result.nc."""
+    where = tiny_run[0] / "results-ci"
+    with xr.open_dataset(where / "sweep.nc") as sweep:
+        sweep = sweep.load()
+    goal = 10 * MMHG  # config/ci.yaml's target: the waist at 10 mmHg
+    rows = _csv(where / "design.csv")
+    confirmed = _csv(where / "design_confirmed.csv")
+    assert len(rows) == len(confirmed) == 2
+    for row, final in zip(rows, confirmed, strict=True):
+        at = sweep.sel(
+            material=row["material"],
+            body=row["body"],
+            worn=int(row["worn"]),
+            lengthwise_reduction=float(row["lengthwise_reduction"]),
+            landmark="waist",
+        )
+        (r0, r1), (p0, p1) = at["reduction"].values, at["pressure_mean"].values
+        (e0, e1) = at["pressure_mean_error"].values
+        slope = (p1 - p0) / (r1 - r0)
+        reduction = r0 + (goal - p0) / slope
+        t = (reduction - r0) / (r1 - r0)
+        half = ((1 - t) * e0 + t * e1) / abs(slope)
+        assert row["landmark"] == "waist" and row["status"] == "ok" and row["message"] == ""
+        assert _close(row["target_Pa"], goal) and _close(row["target_mmHg"], 10.0)
+        assert _close(row["reduction"], reduction) and _close(row["slope_Pa"], slope)
+        assert _close(row["reduction_error"], half, rel=1e-5)
+        assert _close(row["reduction_low"], reduction - half, rel=1e-5)
+        assert _close(row["reduction_high"], reduction + half, rel=1e-5)
+        for key, value in row.items():
+            assert final[key] == value, key  # the confirmation repeats the design's columns
+        name = f"design__{row['material']}__{row['body']}__waist"
+        name += "__worn" if row["worn"] == "1" else ""
+        with xr.open_dataset(where / "cases" / name / "result.nc") as ds:
+            case = ds.sel(landmark="waist").load()
+            cut = json.loads(ds.attrs["case"])["garment"]["reduction"]
+            assert cut == float(row["reduction"])  # confirmed at the answer design.csv gives
+        value, error = float(case["pressure_mean"]), float(case["pressure_mean_error"])
+        assert _close(final["confirmed_Pa"], value) and _close(
+            final["confirmed_mmHg"], value / MMHG
+        )
+        assert _close(final["confirmed_error_Pa"], error)
+        assert _close(final["confirmed_error_mmHg"], error / MMHG)
+        assert _close(final["error_percent"], 100 * (value - goal) / goal, rel=1e-5)
+        assert int(final["converged"]) == 1
+
+
+def test_every_file_the_tiny_pipeline_writes_has_its_columns_in_the_inventory(tiny_run):
+    """Every column of every CSV and every variable of result.nc, sweep.nc the tiny pipeline
+    writes has a row in docs/testing.md's inventory, in the units the file states."""
+    from tests import inventory
+
+    where = tiny_run[0] / "results-ci"
+    files = [p for p in where.rglob("*.csv")]
+    files += [*where.rglob("result.nc"), where / "sweep.nc"]
+    assert {inventory.family(p) for p in files} >= {
+        "summary.csv",
+        "sweep.csv",
+        "design.csv",
+        "design_confirmed.csv",
+        "result.nc",
+        "sweep.nc",
+    }
+    assert inventory.unlisted(files) == []
+
+
+def test_the_graded_design_s_files_are_its_loop_and_its_confirmation(tiny_run):
+    """The tiny pipeline's graded design (config/ci.yaml: waist 10, underbust 12 mmHg):
+    design_iterations.csv ends at the designed knots and values; design_confirmed.csv reads
+    the confirmation's own result.nc; pattern.csv its rows, in the headers' units."""
+    where = tiny_run[0] / "results-ci" / "designs" / "graded"
+    iterations = _csv(where / "design_iterations.csv")
+    confirmed = _csv(where / "design_confirmed.csv")
+    designed = yaml.safe_load((where / "case.yaml").read_text())["garment"]["reduction"]
+    with xr.open_dataset(where / "confirmed" / "result.nc") as ds:
+        ds = ds.load()
+    targets = {"waist": 10.0, "underbust": 12.0}
+    assert [row["landmark"] for row in confirmed] == list(targets)
+    assert [int(row["equilibrium"]) for row in iterations] == list(range(1, len(iterations) + 1))
+    assert all(1 <= int(row["newton_iterations"]) <= 60 for row in iterations)
+    last = iterations[-1]
+    for row in confirmed:
+        line = row["landmark"]
+        at = ds.sel(landmark=line)
+        # the loop's equilibria, the uniform answer's (the start is uniform) and the confirmation
+        assert int(row["equilibria"]) == len(iterations) + 2
+        assert _close(row["height_m"], float(at["landmark_height"]))
+        assert _close(row["target_mmHg"], targets[line])
+        assert _close(row["designed_mmHg"], float(last[f"{line}_mmHg"]))
+        assert _close(row["confirmed_mmHg"], float(at["pressure_mean"]) / MMHG)
+        assert _close(row["confirmed_error_mmHg"], float(at["pressure_mean_error"]) / MMHG)
+        assert _close(row["tolerance_mmHg"], 0.5)  # the default
+        off = abs(float(at["pressure_mean"]) / MMHG - targets[line])
+        assert row["met"] == str(int(off <= 0.5))
+        for knot, value in designed.items():
+            assert _close(row[f"reduction_{knot}"], value)
+            assert _close(last[f"reduction_{knot}"], value)
+    rows = _csv_rows_after_comments(where / "pattern.csv")
+    assert [int(r["row"]) for r in rows] == list(range(ds.sizes["row"]))
+    for column, values in (
+        ("pattern_height_mm", 1e3 * ds["pattern_height"].values),
+        ("cut_height_m", ds["cut_height"].values),
+        ("rest_circumference_mm", 1e3 * ds["rest_circumference"].values),
+        ("width_mm", 1e3 * ds["rest_circumference"].values / 2),  # two panels
+        ("reduction", ds["row_reduction"].values),
+    ):
+        np.testing.assert_allclose([float(r[column]) for r in rows], values, atol=1e-4, rtol=2e-6)
+    assert {r["cut"] for r in rows} == {"two-panel"}
+
+
+def _csv_rows_after_comments(path: Path) -> list[dict[str, str]]:
+    import csv
+
+    with open(path, newline="") as handle:
+        return list(csv.DictReader(line for line in handle if not line.startswith("#")))
