@@ -295,6 +295,12 @@ def test_the_stocking_s_knitting_table_has_every_size_and_its_girth_points(stock
             np.interp(heights + height[0], height, 1e3 * result["rest_circumference"].values),
             atol=0.01,
         )
+        # each course's body height is where the row at its pattern height was cut
+        np.testing.assert_allclose(
+            [float(r["body_height_m"]) for r in mine],
+            np.interp(heights + height[0], height, result["cut_height"].values),
+            atol=1e-5,
+        )
         lines = _lines(result)
         marked = {r["girth_point"]: r for r in mine if r["girth_point"]}
         assert set(marked) == set(lines) and {"B", "C", "F"} <= set(marked)

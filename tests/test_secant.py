@@ -82,7 +82,13 @@ def test_a_confirmation_off_its_target_is_met_by_the_secant(tmp_path):
         final = float(ds["pressure_mean"].sel(landmark="middle"))
         error = float(mean_error(ds).sel(landmark="middle"))
     assert float(done["final_mmHg"]) == pytest.approx(final / MMHG, abs=1e-4)
+    assert float(done["final_error_mmHg"]) == pytest.approx(error / 133.322387415, rel=1e-5)
     assert abs(final - goal) <= error
+    # the last miss in reduction over design.csv's slope; met, so the total is the interval
+    slope = float(row["slope_Pa"])
+    interpolation = abs(final - goal) / abs(slope)  # written to 4 significant digits
+    assert float(done["interpolation_error"]) == pytest.approx(interpolation, rel=1e-3)
+    assert float(done["reduction_error_total"]) == pytest.approx(row["reduction_error"], rel=1e-5)
     assert float(done["final_reduction"]) == pytest.approx(  # the CSV keeps 4 decimals
         yaml.safe_load(
             (tmp_path / "secant" / "confirm" / f"step{steps}" / "case.yaml").read_text()

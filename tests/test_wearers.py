@@ -606,3 +606,177 @@ def test_the_pipeline_runs_a_job_per_wearer_and_gathers_them(tmp_path):
             assert float(table["pressure_mean"].sel(wearer=name, landmark=line)) == float(
                 mine.sel(landmark=line)
             )
+
+
+#: 1 mmHg in Pa by its definition, typed here (13.5951 g/cm3 x 9.80665 m/s2 x 1 mm).
+MMHG_BY_HAND = 13.5951e3 * 9.80665 * 1e-3
+
+
+def _line_result(path: Path, means: dict[str, float], errors: dict[str, float]) -> Path:
+    """A result.nc reduced to what wearers.nc reads: per girth line the mean and its error."""
+    lines = list(means)
+    xr.Dataset(
+        {
+            "pressure_mean": ("landmark", [means[k] for k in lines]),
+            "pressure_mean_error": ("landmark", [errors[k] for k in lines]),
+        },
+        coords={"landmark": lines},
+    ).to_netcdf(path)
+    return path
+
+
+def test_every_column_of_wearers_nc_and_wearers_csv_by_hand(tmp_path):
+    """Three wearers and the size's body with known means and errors (one wearer misses the
+    top line): wearers.nc holds them and the index's statures, wearers.csv each line's range,
+    who gives it, the size's value and the largest stated error, in mmHg."""
+    from cloth.stages.wearers import collect, write_table
+
+    mm = MMHG_BY_HAND
+    means = {
+        "size": {"B": 20 * mm, "C": 15 * mm},
+        "centre": {"B": 22 * mm, "C": 16 * mm},
+        "wide": {"B": 18 * mm, "C": 17 * mm},
+        "tall": {"B": 25 * mm},
+    }
+    errors = {
+        "size": {"B": 0.1 * mm, "C": 0.2 * mm},
+        "centre": {"B": 0.3 * mm, "C": float("nan")},
+        "wide": {"B": 0.5 * mm, "C": 0.4 * mm},
+        "tall": {"B": 0.2 * mm},
+    }
+    paths = {n: _line_result(tmp_path / f"{n}.nc", means[n], errors[n]) for n in means}
+    index = {
+        "size": "M",
+        "wearers": [
+            {"name": "centre", "stature_m": 1.65},
+            {"name": "wide", "stature_m": 1.60},
+            {"name": "tall", "stature_m": 1.75},
+        ],
+    }
+    ds = collect(paths, index)
+    assert ds["wearer"].values.tolist() == ["size", "centre", "wide", "tall"]
+    assert ds["landmark"].values.tolist() == ["B", "C"]
+    assert ds["pressure_mean"].attrs["units"] == "Pa" and ds["stature"].attrs["units"] == "m"
+    np.testing.assert_array_equal(ds["stature"].values, [np.nan, 1.65, 1.60, 1.75])
+    assert float(ds["pressure_mean"].sel(wearer="wide", landmark="C")) == 17 * mm
+    assert np.isnan(float(ds["pressure_mean"].sel(wearer="tall", landmark="C")))
+    assert float(ds["pressure_mean_error"].sel(wearer="wide", landmark="B")) == 0.5 * mm
+    write_table(ds, tmp_path / "wearers.csv")
+    with open(tmp_path / "wearers.csv", newline="") as handle:
+        rows = {row["landmark"]: row for row in csv.DictReader(handle)}
+    expected = {
+        "B": {
+            "wearers": "3",
+            "pressure_min_mmHg": 18.0,
+            "min_wearer": "wide",
+            "pressure_centre_mmHg": 22.0,
+            "pressure_max_mmHg": 25.0,
+            "max_wearer": "tall",
+            "spread_mmHg": 7.0,
+            "size_body_mmHg": 20.0,
+            "discretisation_error_mmHg": 0.5,
+        },
+        "C": {
+            "wearers": "2",
+            "pressure_min_mmHg": 16.0,
+            "min_wearer": "centre",
+            "pressure_centre_mmHg": 16.0,
+            "pressure_max_mmHg": 17.0,
+            "max_wearer": "wide",
+            "spread_mmHg": 1.0,
+            "size_body_mmHg": 15.0,
+            "discretisation_error_mmHg": 0.4,
+        },
+    }
+    for line, want in expected.items():
+        for column, value in want.items():
+            got = rows[line][column]
+            assert (
+                (float(got) == pytest.approx(value, abs=1e-4))
+                if isinstance(value, float)
+                else got == value
+            ), (line, column)
+        # without a judge there is no class and no band
+        assert rows[line]["class_min"] == rows[line]["class_max"] == ""
+        assert rows[line]["bands_every_wearer"] == ""
+
+
+def test_every_column_of_robust_csv_by_hand():
+    """A robust design with known bands, loop means and confirmed means: each robust.csv
+    column in mmHg, met only where every wearer lies inside the band, the wearers counted
+    without the size's body and every wearer's confirmation counted as an equilibrium."""
+    from cloth.stages.robust import Robust
+    from cloth.stages.wearerdesign import robust_rows
+
+    mm = MMHG_BY_HAND
+    result = Robust(
+        knots=("B", "C"),
+        values=np.array([0.21, 0.155]),
+        lines=("B", "C"),
+        bands=np.array([[23.0, 32.0], [15.0, 20.0]]) * mm,
+        wearers=("centre", "wide"),
+        means=np.array([[24.0, 16.0], [30.0, 21.0]]) * mm,
+        t=0.75,
+        rounds=3,
+        solves=9,
+    )
+    confirmed = xr.Dataset(
+        {
+            "pressure_mean": (
+                ("wearer", "landmark"),
+                np.array([[27.0, 18.0], [24.5, 16.0], [31.0, 20.5]]) * mm,
+            ),
+            "pressure_mean_error": (
+                ("wearer", "landmark"),
+                np.array([[0.9, 0.9], [0.2, np.nan], [0.3, 0.1]]) * mm,
+            ),
+        },
+        coords={"wearer": ["size", "centre", "wide"], "landmark": ["B", "C"]},
+    )
+    rows = robust_rows(result, confirmed)
+    expected = [
+        {
+            "landmark": "B",
+            "band_low_mmHg": 23.0,
+            "band_high_mmHg": 32.0,
+            "loop_min_mmHg": 24.0,
+            "loop_max_mmHg": 30.0,
+            "confirmed_min_mmHg": 24.5,
+            "min_wearer": "centre",
+            "confirmed_max_mmHg": 31.0,
+            "max_wearer": "wide",
+            "spread_mmHg": 6.5,
+            "discretisation_error_mmHg": 0.3,
+            "met": 1,
+            "t": 0.75,
+            "reduction": "B=0.21000 C=0.15500",
+            "wearers": 2,
+            "equilibria": 11,
+        },
+        {
+            "landmark": "C",
+            "band_low_mmHg": 15.0,
+            "band_high_mmHg": 20.0,
+            "loop_min_mmHg": 16.0,
+            "loop_max_mmHg": 21.0,
+            "confirmed_min_mmHg": 16.0,
+            "min_wearer": "centre",
+            "confirmed_max_mmHg": 20.5,
+            "max_wearer": "wide",
+            "spread_mmHg": 4.5,
+            "discretisation_error_mmHg": 0.1,
+            "met": 0,  # the wide wearer reads 20.5 mmHg, above the band's 20
+            "t": 0.75,
+            "reduction": "B=0.21000 C=0.15500",
+            "wearers": 2,
+            "equilibria": 11,
+        },
+    ]
+    assert len(rows) == 2
+    for row, want in zip(rows, expected, strict=True):
+        assert set(row) == set(want)
+        for column, value in want.items():
+            if isinstance(value, float):
+                assert row[column] == pytest.approx(value, abs=1e-4), column
+            else:
+                assert row[column] == value, column
