@@ -355,3 +355,27 @@ def test_a_target_at_a_height_becomes_a_girth_line(tmp_path):
     fabric = load_fabric(case["material"], ROOT)
     expected = _laplace_reduction(fabric, 20 * MMHG, 0.0)
     assert result.values[0] == pytest.approx(expected, rel=1e-3)
+
+
+@pytest.mark.parametrize(
+    ("body", "cut", "expected"),
+    [
+        ({"leg": {"size": "M"}}, "auto", "tube"),  # a stocking is knitted in the round
+        ({"torso": {"size": "M"}}, "auto", "two-panel"),
+        ({"cylinder": {"radius": 0.1}}, "auto", "two-panel"),
+        ({"leg": {"size": "M"}}, "two-panel", "two-panel"),
+        ({"torso": {"size": "M"}}, "tube", "tube"),
+    ],
+)
+def test_the_cut_auto_is_a_tube_on_a_leg_and_two_panels_elsewhere(body, cut, expected):
+    from cloth.pipeline.config import validate_case
+    from cloth.stages.graded import cut_of
+
+    case = validate_case(
+        {
+            "material": "powernet",
+            "body": body,
+            "garment": {"bottom": 0.3, "top": 0.5, "reduction": 0.15, "grid": [16, 8]},
+        }
+    )
+    assert cut_of(case, cut) == expected

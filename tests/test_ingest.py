@@ -71,6 +71,12 @@ def test_raw_force_export_converts_units_and_picks_last_unload(tmp_path):
     assert material.fabric.thickness == pytest.approx(thickness * 1e-3)
     loading = ingest([table], options=IngestOptions(n_knots=3, branch="load", cycle=1))
     assert float(loading.fabric.weft.stress(0.4)) == pytest.approx(k_weft * 0.4 / area, rel=1e-6)
+    # both branches of cycle 2 at the same strains: the least-squares line is their mean slope
+    both = ingest([table], options=IngestOptions(n_knots=3, branch="all", cycle=2))
+    assert both.data["weft"].raw_strain.size == 26
+    assert float(both.fabric.weft.stress(0.4)) == pytest.approx(
+        0.95 * k_weft * 0.4 / area, rel=1e-6
+    )
 
 
 def test_extension_and_clean_tables_one_file_per_direction(tmp_path):
@@ -221,3 +227,21 @@ def test_the_set_of_the_example_fabric_is_the_one_it_was_generated_with():
     fabric = ingest([Path(__file__).resolve().parents[1] / "data/materials/powernet.csv"]).fabric
     assert fabric.set_strain["weft"] == pytest.approx(0.018, abs=SET_TOLERANCE[0.05])
     assert fabric.set_strain["warp"] == pytest.approx(0.018, abs=SET_TOLERANCE[0.05])
+
+
+def test_a_bias_table_gives_the_fabric_its_bias_curve(tmp_path):
+    """A clean table per direction, the third one ``bias`` (the direction named on the command
+    line, as the config's ``directions``): its points are the bias curve's knots."""
+    header = "# thickness_mm: 0.5\nstrain_percent,stress_kPa\n"
+    tables = [
+        write(tmp_path / f"{name}.csv", header + body)
+        for name, body in (
+            ("weft", "0,0\n10,50\n30,400\n"),
+            ("warp", "0,0\n10,80\n30,500\n"),
+            ("bias", "0,0\n20,30\n40,90\n"),
+        )
+    ]
+    material = ingest(tables, ["weft", "warp", "bias"])
+    np.testing.assert_allclose(material.fabric.bias.knot_strain, [0.0, 0.2, 0.4])
+    np.testing.assert_allclose(material.fabric.bias.knot_stress, [0.0, 3e4, 9e4])
+    assert material.fabric.curve("bias") is material.fabric.bias

@@ -55,6 +55,16 @@ def test_cylinder_wrap_is_exact():
     assert np.all(state.constraint.reshape(m, n)[1:-1] == FREE)
 
 
+@pytest.mark.parametrize(("edges", "flag"), [("fixed", 2), ("sliding", 1), ("free", 0)])
+def test_the_edges_option_sets_how_the_edge_rows_move(edges, flag):
+    """``garment.edges``: the top and bottom rows fixed (flag 2), sliding (1) or free (0), the
+    rows between always free; the flags are result.nc's ``constraint`` meanings, free sliding
+    fixed."""
+    state = initial_state(case(edges=edges))
+    rows = state.constraint.reshape(6, 64)
+    assert np.all(rows[[0, -1]] == flag) and np.all(rows[1:-1] == 0)
+
+
 @pytest.mark.parametrize(
     "body",
     [
@@ -118,16 +128,20 @@ def test_state_file_round_trip(tmp_path):
 def test_units_and_axes_give_identical_initial_positions(tmp_path):
     vertices, faces = torso_mesh(chart_size("S"), around=48, rings=30)
     y_up_mm = np.column_stack([vertices[:, 0], vertices[:, 2], -vertices[:, 1]]) * 1000
+    # x up, in cm: the body turned -90 degrees about y (file x, y, z = body z, y, -x)
+    x_up_cm = np.column_stack([vertices[:, 2], vertices[:, 1], -vertices[:, 0]]) * 100
     write_obj(tmp_path / "m.obj", vertices, faces)
     write_obj(tmp_path / "mm.obj", y_up_mm, faces)
+    write_obj(tmp_path / "cm.obj", x_up_cm, faces)
     results = []
-    for name, units, up in (("m.obj", "m", "z"), ("mm.obj", "mm", "y")):
+    for name, units, up in (("m.obj", "m", "z"), ("mm.obj", "mm", "y"), ("cm.obj", "cm", "x")):
         c = case(bottom=0.9, top=1.15, grid=[32, 4])
         # the mesh itself (units and axes are converted before any surface is fitted to it;
         # the fit, the same on both, took 75 s of this test)
         c["body"] = {"mesh": name, "units": units, "up": up, "surface": "mesh"}
         results.append(initial_state(c, tmp_path).x)
     np.testing.assert_allclose(results[0], results[1], rtol=0, atol=1e-9)
+    np.testing.assert_allclose(results[0], results[2], rtol=0, atol=1e-9)
 
 
 def write_case(tmp_path: Path, data) -> Path:

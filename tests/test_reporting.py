@@ -358,27 +358,46 @@ def test_row_diagnostics_read_the_rows_bottom_to_top_and_count_the_off_body_as_z
     assert nearest_row(np.array([0.1, 0.2]), 0.24) == 1  # two rows: half a spacing beyond
 
 
-def _biweight_share(low: float, high: float, height: float, half: float = 0.02) -> float:
-    """The integral of the biweight (1 - ((z - height) / half)^2)^2 over [low, high], m."""
+#: The band kernels K(s), s the height from the line over the half width (docs/outputs.md):
+#: the biweight and the hat, typed here.
+KERNELS = {
+    "smooth": lambda s: max(0.0, 1 - s * s) ** 2,
+    "hat": lambda s: max(0.0, 1 - abs(s)),
+}
+
+
+def _kernel_share(
+    low: float, high: float, height: float, half: float = 0.02, kernel: str = "smooth"
+) -> float:
+    """The integral of the kernel K((z - height) / half) over [low, high], m."""
     from scipy.integrate import quad
 
-    kernel = lambda z: max(0.0, 1 - ((z - height) / half) ** 2) ** 2  # noqa: E731
-    return quad(kernel, low, high, points=[height - half, height, height + half])[0]
+    shape = KERNELS[kernel]
+    return quad(
+        lambda z: shape((z - height) / half),
+        low,
+        high,
+        points=[height - half, height, height + half],
+    )[0]
 
 
+@pytest.mark.parametrize("kernel", sorted(KERNELS))
 @pytest.mark.parametrize("height", [0.21, 0.245, 0.29])
-def test_band_values_weigh_each_node_by_the_kernel_over_its_span_of_height(height):
-    """The band mean is sum f_i w_i / sum a_i w_i with f_i = p_i a_i and w_i the biweight
-    integrated over the node's span (half-way to its warp neighbours: 0.1-0.15, 0.15-0.25,
-    0.25-0.3 m) over the span's length, here by scipy's quad: 0.245 m straddles two rows' spans,
-    0.29 m is clipped at the garment's top edge."""
+def test_band_values_weigh_each_node_by_the_kernel_over_its_span_of_height(height, kernel):
+    """The band mean is sum f_i w_i / sum a_i w_i with f_i = p_i a_i and w_i the kernel
+    (``smooth``, the biweight, and ``hat``) integrated over the node's span (half-way to its
+    warp neighbours: 0.1-0.15, 0.15-0.25, 0.25-0.3 m) over the span's length, here by scipy's
+    quad: 0.245 m straddles two rows' spans, 0.29 m is clipped at the garment's top edge."""
+    from cloth.case.reading import Reading
+
     grid = SimpleNamespace(m=3, n=4)
     x = np.array([[0.0, 0.0, z] for z in (0.1, 0.2, 0.3) for _ in range(4)])
     fields = _Fields()
     spans = [(0.1, 0.15), (0.15, 0.25), (0.25, 0.3)]
-    w = np.repeat([_biweight_share(lo, hi, height) / (hi - lo) for lo, hi in spans], 4)
+    share = [_kernel_share(lo, hi, height, kernel=kernel) / (hi - lo) for lo, hi in spans]
+    w = np.repeat(share, 4)
     force = np.where(fields.on_body == 1, fields.pressure, 0.0) * fields.area
-    (mark,) = landmarks({"line": height}, x, fields, grid)
+    (mark,) = landmarks({"line": height}, x, fields, grid, Reading(kernel=kernel))
     assert mark.mean == pytest.approx(np.sum(force * w) / np.sum(fields.area * w), rel=1e-10)
     assert mark.tension == pytest.approx(50.0, rel=1e-12)
 

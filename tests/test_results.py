@@ -350,3 +350,27 @@ def test_a_scan_s_wiggles_are_not_landmarks_and_its_kind_names_them(tmp_path, ki
     for name, line in zip(names, ("hip", "waist", "bust"), strict=True):
         # within half the ripple's period and a row: a flat extremum moves with the ripple
         assert marks[name] == pytest.approx(chart.height[line], abs=0.025)
+
+
+def test_a_mesh_body_s_kind_names_its_girth_extrema_in_height_order():
+    """``body.kind``: on a torso the lowest minimum above a maximum is the waist, the maximum
+    below it the hip, the one above it the bust; on a leg the lowest minimum is B, the maximum
+    above it C, the minimum above that D; extrema past those keep their numbered names."""
+    from cloth.results.landmarks import anatomical
+
+    torso = {"girth_min_1": 0.70, "girth_max_2": 0.86, "girth_min_3": 1.04, "girth_max_4": 1.2}
+    assert anatomical(torso, "torso") == {
+        "girth_min_1": 0.70,  # no maximum below it: not a waist
+        "hip": 0.86,
+        "waist": 1.04,
+        "bust": 1.2,
+    }
+    leg = {"girth_max_1": 0.05, "girth_min_2": 0.1, "girth_max_3": 0.3, "girth_min_4": 0.45}
+    leg["girth_max_5"] = 0.6
+    assert anatomical(leg, "leg") == {
+        "girth_max_1": 0.05,  # below the ankle
+        "B": 0.1,
+        "C": 0.3,
+        "D": 0.45,
+        "girth_max_5": 0.6,
+    }
