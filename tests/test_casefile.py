@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import shutil
 from pathlib import Path
 
@@ -48,11 +49,53 @@ def test_a_relocated_path_names_the_same_file(source, target, name):
     assert data["material"] == name  # the input is not changed
 
 
-def test_a_bundled_material_name_and_every_path_key_are_handled():
+def test_a_bundled_material_name_is_not_a_path():
     data = {"material": "powernet", "body": {"leg": {"size": "M", "chart": "c.csv"}}}
     out = relocated(data, "/p", "/p/q")
     assert out["material"] == "powernet" and out["body"]["leg"]["chart"] == "../c.csv"
-    assert {keys[0] for keys in PATH_KEYS} == {"material", "body"}
+
+
+def _file_keys() -> set[tuple[str, ...]]:
+    """Every string key of the case schema whose description says it names a file (a path, a
+    file, a CSV, a mesh), following the pattern's body block to the body's: read from the
+    schema, not from the module."""
+    schema = yaml.safe_load((ROOT / "cloth" / "schemas" / "case.schema.yaml").read_text())
+    out = set()
+
+    def walk(node, keys):
+        if "$ref" in node:
+            target = schema
+            for part in node["$ref"].split("#/")[1].split("/"):
+                target = target[part]
+            node = target
+        said = node.get("description", "")
+        if node.get("type") == "string" and re.search(r"\b(file|CSV|path|mesh)\b", said, re.I):
+            out.add(keys)
+        for key, child in node.get("properties", {}).items():
+            walk(child, (*keys, key))
+
+    walk(schema, ())
+    return out
+
+
+def test_every_key_that_names_a_file_is_relocated_and_a_home_path_kept():
+    keys = _file_keys()
+    assert ("garment", "pattern", "file") in keys and len(keys) == 14
+    assert set(PATH_KEYS) == keys
+    data: dict = {}
+    for path in keys:
+        holder = data
+        for key in path[:-1]:
+            holder = holder.setdefault(key, {})
+        holder[path[-1]] = "d/x.csv"
+    out = relocated(data, "/p", "/p/q")
+    for path in keys:
+        value = out
+        for key in path:
+            value = value[key]
+        assert value == "../d/x.csv", path
+    home = relocated({"material": "~/tables/net.csv"}, "/p", "/p/q")
+    assert home["material"] == "~/tables/net.csv"  # the user's home, wherever the case goes
 
 
 def _tree(tree: Path) -> None:
@@ -125,3 +168,15 @@ def test_a_written_case_runs_from_anywhere_after_its_folder_moves(kind, tmp_path
         == 0
     )
     assert main([*QUIET, "predeform", str(again_case), "-o", str(tmp_path / "again.nc")]) == 0
+
+
+def test_a_path_from_the_home_folder_is_the_user_s_file_from_any_base(tmp_path, monkeypatch):
+    """``~/tables/net.csv`` names the file in the user's home whatever the case's folder."""
+    from cloth.paths import input_file
+
+    home = tmp_path / "home"
+    (home / "tables").mkdir(parents=True)
+    shutil.copy(ROOT / "data/materials/powernet.csv", home / "tables/net.csv")
+    monkeypatch.setenv("HOME", str(home))
+    found = input_file("~/tables/net.csv", tmp_path / "cases", "case.yaml", "material")
+    assert found == home / "tables" / "net.csv"

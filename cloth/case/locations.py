@@ -2,7 +2,8 @@
 
 A case names files by path: its material (a lab table or a material.nc; a bare name such as
 ``powernet`` is a bundled table, not a path), a mesh body's mesh and its smooth surface, a
-torso's or a leg's size chart, and an avatar's chart and mesh. A case file's relative paths
+torso's or a leg's size chart, an avatar's chart and mesh, and a worn pattern's file or the
+files of the body it was cut for (``garment.pattern``). A case file's relative paths
 resolve against the case file's own folder (`cloth.stages.case`), so a case the tool writes
 stores them relative to the folder it is written into (`relocated`): it then runs as written
 from any working directory, and a folder holding the case and its files can be moved as a
@@ -16,15 +17,22 @@ import os
 from pathlib import Path
 from typing import Any
 
-#: The keys of a case mapping that hold a path, as key paths from the top.
+#: The keys of a body block that hold a path, from the block.
+BODY_PATH_KEYS: tuple[tuple[str, ...], ...] = (
+    ("mesh",),
+    ("surface_file",),
+    ("torso", "chart"),
+    ("leg", "chart"),
+    ("avatar", "chart"),
+    ("avatar", "mesh"),
+)
+#: The keys of a case mapping that hold a path, as key paths from the top: the material, the
+#: body's files, and a worn pattern's (``garment.pattern``: its file, or its body's files).
 PATH_KEYS: tuple[tuple[str, ...], ...] = (
     ("material",),
-    ("body", "mesh"),
-    ("body", "surface_file"),
-    ("body", "torso", "chart"),
-    ("body", "leg", "chart"),
-    ("body", "avatar", "chart"),
-    ("body", "avatar", "mesh"),
+    *(("body", *keys) for keys in BODY_PATH_KEYS),
+    ("garment", "pattern", "file"),
+    *(("garment", "pattern", "body", *keys) for keys in BODY_PATH_KEYS),
 )
 
 
@@ -61,4 +69,4 @@ def relocated(data: dict[str, Any], source: str | Path, target: str | Path) -> d
     return out
 
 
-__all__ = ["PATH_KEYS", "bundled_material", "is_path", "relocated"]
+__all__ = ["BODY_PATH_KEYS", "PATH_KEYS", "bundled_material", "is_path", "relocated"]
