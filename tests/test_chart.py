@@ -163,6 +163,24 @@ def test_the_graded_nest_holds_every_piece_on_the_convention_s_layers(torso):
         assert sorted(n for n in piece.notes if n in lines) == sorted(lines)
         assert len(piece.notches) == 2 * len(lines)  # one per girth line on each side seam
         assert len(piece.internal) == len(lines)
+        # each girth line drawn level at its height across the sewn width, side seam to seam
+        heights = sorted(y for y, _ in lines.values())
+        drawn = sorted(piece.internal, key=lambda line: line[0][1])
+        for line, y in zip(drawn, heights, strict=True):
+            assert np.allclose(line[:, 1], y, atol=1e-6)
+            assert np.ptp(line[:, 0]) == pytest.approx(piece.sew_width_at(y), abs=1e-6)
+        # the turn points are the cut line's four corners: its lowest and highest vertices
+        # at the left and the right side seam
+        cut = piece.cut[0]
+        corners = {
+            (x > 0, y > np.mean(cut[:, 1]))
+            for x, y in (np.asarray(t).ravel()[:2] for t in piece.turns)
+        }
+        assert corners == {(False, False), (False, True), (True, False), (True, True)}
+        for turn in piece.turns:
+            x, y = np.asarray(turn).ravel()[:2]
+            assert np.min(np.hypot(cut[:, 0] - x, cut[:, 1] - y)) < 1e-9  # a vertex of the cut
+            assert y in (pytest.approx(cut[:, 1].min()), pytest.approx(cut[:, 1].max()))
 
 
 @pytest.mark.parametrize("allowance", [0.0, 6.0, 12.5])

@@ -406,3 +406,12 @@ def test_every_default_is_the_schema_s_the_case_s_and_the_one_docs_config_states
         frictionless.to_dict().get("contact", {}).get("friction", 0.0)
         == stated["case.yaml", "contact.friction"]
     )
+
+
+def test_every_path_key_of_a_case_has_a_row():
+    from cloth.case.locations import PATH_KEYS
+
+    table = inventory.listed()
+    for keys in PATH_KEYS:
+        row = table.get(("case.yaml", ".".join(keys)))
+        assert row is not None and row.unit == "path", keys
