@@ -12,6 +12,7 @@ import yaml
 import cloth.pipeline.guard
 import cloth.stages.case
 from cloth.cli import main
+from cloth.errors import InputError
 from cloth.pipeline.guard import BYTES_PER_FACE, check_fits, estimate, free_memory_mb, mesh_faces
 from cloth.pipeline.resources import MODEL
 
@@ -190,3 +191,39 @@ def test_the_estimate_follows_the_backend_relax_will_take(tmp_path):
         assert cholesky.memory_mb < 0.7 * lu.memory_mb
         assert lu.memory_mb < 8000 * 1.048576
     assert estimate("relax", nodes, cholesky=True).memory_mb > 1793 * 1.048576  # not below it
+
+
+@pytest.mark.parametrize(
+    ("spare", "force", "refused"),
+    [(0.0, "", False), (-1.0, "", True), (-1.0, "0", True), (-1.0, "1", False)],
+)
+def test_the_guard_refuses_only_past_the_free_memory_unless_forced(
+    monkeypatch, spare, force, refused
+):
+    """The largest stage's estimate at exactly the free memory runs, 1 MB past it is refused
+    (naming the grid), and CLOTH_FORCE other than empty or 0 runs it anyway."""
+    worst = max(estimate(stage, 50_000).memory_mb for stage in ("predeform", "relax"))
+    monkeypatch.setattr(cloth.pipeline.guard, "free_memory_mb", lambda: worst + spare)
+    monkeypatch.setenv("CLOTH_FORCE", force)
+    if refused:
+        with pytest.raises(InputError) as caught:
+            check_fits(("predeform", "relax"), 50_000, 0, "case.yaml")
+        assert caught.value.field == "garment.grid"
+    else:
+        assert len(check_fits(("predeform", "relax"), 50_000, 0, "case.yaml")) == 2
+
+
+@pytest.mark.parametrize(("mesh_share", "field"), [(0.49, "garment.grid"), (0.51, "body.mesh")])
+def test_a_refusal_names_the_mesh_where_its_faces_take_over_half_the_memory(
+    monkeypatch, mesh_share, field
+):
+    """The fix named is the mesh (decimate it) where the mesh's faces take more than half the
+    estimated peak, else the grid."""
+    monkeypatch.setattr(cloth.pipeline.guard, "free_memory_mb", lambda: 1.0)
+    monkeypatch.delenv("CLOTH_FORCE", raising=False)
+    garment = estimate("relax", 1000).memory_mb  # without faces
+    # faces of BYTES_PER_FACE each making ``mesh_share`` of the total: f / (garment + f) = share
+    faces = round(mesh_share / (1 - mesh_share) * garment * 1e6 / BYTES_PER_FACE)
+    with pytest.raises(InputError) as caught:
+        check_fits(("relax",), 1000, faces, "case.yaml")
+    assert caught.value.field == field

@@ -135,3 +135,61 @@ def test_levels_that_do_not_shrink_stay_without_an_error():
     """A finest difference more than half the coarser one, of either sign, is no convergence."""
     for levels in ((100.0, 110.0, 100.0), (100.0, 94.0, 105.0)):
         assert not richardson(*levels).observed
+
+
+def _power_law(order: float) -> tuple[float, float, float]:
+    """f = 10 + 3 h^order on h = 0.25, 0.5, 1 (fine, middle, coarse)."""
+    return tuple(10.0 + 3.0 * h**order for h in (0.25, 0.5, 1.0))
+
+
+@pytest.mark.parametrize(
+    ("order", "code"),
+    [
+        (0.49, 5),  # below the asymptotic range; its finest difference shrinks too little
+        (0.51, 0),
+        (3.99, 0),
+        (4.01, 6),  # above it: converged faster than any order, stated from the difference
+    ],
+)
+def test_the_asymptotic_range_is_0_5_to_4_on_both_sides(order, code):
+    """An observed order is accepted in 0.5-4 only; just outside, the levels get no order."""
+    estimate = richardson(*_power_law(order))
+    assert estimate.code == code
+    if code == 0:
+        assert estimate.order == pytest.approx(order, abs=1e-9)
+    else:
+        assert math.isnan(estimate.extrapolated)
+
+
+@pytest.mark.parametrize(
+    ("order", "safety"), [(1.79, 3.0), (1.81, 1.25), (2.19, 1.25), (2.21, 3.0)]
+)
+def test_the_scheme_s_order_is_confirmed_within_ten_percent_of_two(order, safety):
+    """Safety factor 1.25 where the observed order is within 10 % of the scheme's 2, else 3
+    (Roache), never below the last change."""
+    f = _power_law(order)
+    estimate = richardson(*f)
+    assert estimate.code == 0
+    stated = max(safety * abs(10.0 - f[0]), abs(f[0] - f[1]))
+    assert estimate.uncertainty == pytest.approx(stated, rel=1e-9)
+
+
+@pytest.mark.parametrize(("share", "code"), [(0.49, 6), (0.5, 6), (0.51, 4)])
+def test_wobbling_levels_count_where_the_finest_difference_is_at_most_half_the_coarser(share, code):
+    """Levels that change direction state 3 x the finest difference only where it is at most
+    half the coarser difference (what a first-order scheme leaves when h halves)."""
+    far = 16.0
+    levels = (100.0 - share * far, 100.0, 100.0 - far)  # near = -share x far: the other sign
+    estimate = richardson(*levels)
+    assert estimate.code == code
+    if code == 6:
+        assert estimate.uncertainty == pytest.approx(3 * max(share * far, far / 16), rel=1e-12)
+    else:
+        assert not estimate.observed
+
+
+@pytest.mark.parametrize(("levels", "code"), [(3, 0), (2, 1)])
+def test_an_estimate_needs_three_levels(levels, code):
+    values = list(_power_law(2.0))[:levels]
+    grids = [(48, 24), (24, 12), (12, 6)][:levels]
+    assert estimate_levels(values, grids).code == code
