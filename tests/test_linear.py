@@ -13,6 +13,7 @@ from cloth.solvers.krylov import (
     KRYLOV_PATIENCE,
     KRYLOV_STALE,
     _hopeless,
+    stale,
 )
 from cloth.solvers.linear import Reuse
 
@@ -62,6 +63,7 @@ def test_a_factor_whose_last_solve_was_long_is_stale_and_replaced_untried():
     contact = held(chain, np.array([50, 200, 333]))
     rhs = np.random.default_rng(4).normal(size=n)
     assert KRYLOV_STALE == 15 and KRYLOV_LIMIT == 30  # docs/solvers.md's values
+    assert not stale([]) and not stale([0, 15]) and stale([15, 16]) and not stale([16, 0])
     for last, fresh in ((15, False), (16, True)):
         reuse = Reuse()
         reuse.rtol = 1e-8

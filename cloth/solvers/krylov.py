@@ -48,6 +48,12 @@ class _GiveUp(Exception):
     """GMRES would not reach its tolerance within its limit (`_hopeless`)."""
 
 
+def stale(krylov: list[int]) -> bool:
+    """Whether a kept factor is given up before it is tried: the last Krylov solve on it (the
+    last of ``krylov``, the iterations of every solve) needed more than `KRYLOV_STALE`."""
+    return bool(krylov) and krylov[-1] > KRYLOV_STALE
+
+
 def _hopeless(residual: float, iterations: int, rtol: float) -> bool:
     """Whether GMRES, at relative residual ``residual`` after ``iterations``, would reach
     ``rtol`` only past `KRYLOV_PATIENCE` x `KRYLOV_LIMIT` iterations at its mean rate so far."""

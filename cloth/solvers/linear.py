@@ -45,7 +45,7 @@ from numpy.typing import NDArray
 
 from cloth.errors import InputError
 from cloth.solvers.cholesky import CholeskyFactor, NotPositiveDefinite, cholesky_factor
-from cloth.solvers.krylov import KRYLOV_RTOL, KRYLOV_STALE, cg_on, gmres_on
+from cloth.solvers.krylov import KRYLOV_RTOL, cg_on, gmres_on, stale
 from cloth.solvers.ordering import reordering_for
 
 log = logging.getLogger(__name__)
@@ -141,8 +141,9 @@ class Reuse:
     Cholesky factor (`cloth.solvers.krylov.cg_on`); when the Krylov solve needs more than its
     `KRYLOV_LIMIT` iterations to reach its tolerance (or would, at its rate so far), the matrix
     is factorised afresh and kept; so is it, untried, where the last solve on the kept factor
-    needed more than `KRYLOV_STALE` iterations. A factor costs 40-60 solves at 100k nodes
-    (issue 12), so a Newton step that reuses one costs a few solves instead of a factorisation.
+    needed more than `KRYLOV_STALE` iterations (`cloth.solvers.krylov.stale`). A factor costs
+    40-60 solves at 100k nodes (issue 12), so a Newton step that reuses one costs a few solves
+    instead of a factorisation.
     ``krylov`` lists the Krylov iterations of every solve (0 for a direct solve with a fresh
     factor of the matrix itself), ``abandoned`` those of the attempts given up. With ``gmres``
     False every system is factorised (CHOLMOD and Pardiso still keep their symbolic analysis:
@@ -172,8 +173,8 @@ class Reuse:
         one, need not be);
         ``matrix`` is then solved by GMRES preconditioned by that factor, and where GMRES
         fails there too, by SuperLU (``fallbacks`` counts those)."""
-        stale = bool(self.krylov) and self.krylov[-1] > KRYLOV_STALE
-        if self.gmres and self.factor is not None and matrix.shape[0] == self.size and not stale:
+        kept = self.gmres and self.factor is not None and matrix.shape[0] == self.size
+        if kept and not stale(self.krylov):
             x = self._krylov(matrix, rhs)
             if x is not None:
                 return x
