@@ -13,13 +13,13 @@ import pytest
 import xarray as xr
 
 from cloth.errors import InputError
+from cloth.pipeline.designplots import plot_design
 from cloth.pipeline.sweep import (
     collect,
     confirm,
     confirm_name,
     design,
     design_header,
-    plot_design,
     read_design,
     sweep_rows,
     write_rows,
@@ -221,8 +221,70 @@ def test_confirm_reads_each_answered_row_s_result_and_its_error(swept, tmp_path)
         confirm(read, confirmations[:1])
 
 
-def test_the_design_figure_draws_each_line_its_errors_and_the_target(swept, tmp_path):
+def test_the_design_figure_draws_each_line_its_errors_and_the_target(swept, tmp_path, monkeypatch):
+    """design.png: per girth line the mean against the reduction in %, in mmHg, at the first
+    worn value (new), its stated errors as bars, the worn spread shaded, the target level."""
+    import cloth.pipeline.designplots
+
     index, paths = swept
     ds = collect(index, paths)
+    drawn = {}
+    monkeypatch.setattr(
+        cloth.pipeline.designplots, "save_figure", lambda fig, path: drawn.setdefault("fig", fig)
+    )
+    plot_design(ds, [{"landmark": "waist", "pressure_mmHg": 12.0}], tmp_path / "d.png")
+    waist, hip = drawn["fig"].axes
+    assert (waist.get_title(), hip.get_title()) == ("waist", "hip")
+    line = waist.lines[0]
+    np.testing.assert_allclose(line.get_xdata(), [10.0, 20.0])
+    np.testing.assert_allclose(line.get_ydata(), np.array([1000.0, 2000.0]) / MMHG)
+    target = [ln for ln in waist.lines if ln.get_label() == "target"]
+    assert len(target) == 1 and np.allclose(target[0].get_ydata(), 12.0)
+    assert not [ln for ln in hip.lines if ln.get_label() == "target"]
+    bars = waist.collections[-1] if not waist.containers else waist.containers[0][2][0]
+    segments = np.asarray(bars.get_segments())  # the error bars: +- 10 Pa at each reduction
+    np.testing.assert_allclose(np.ptp(segments[:, :, 1], axis=1), 2 * 10.0 / MMHG)
+    spread = [c for c in waist.collections if "spread over worn" in str(c.get_label())]
+    assert len(spread) == 1
+    # the real file
+    monkeypatch.undo()
     path = plot_design(ds, [{"landmark": "waist", "pressure_mmHg": 12.0}], tmp_path / "d.png")
     assert path.stat().st_size > 10_000
+
+
+def test_the_profile_figure_draws_targets_uniform_and_confirmed_at_each_height(
+    tmp_path, monkeypatch
+):
+    import cloth.pipeline.designplots
+    from cloth.pipeline.designplots import plot_profile_design
+
+    rows = [
+        {
+            "landmark": name,
+            "height_m": z,
+            "target_mmHg": t,
+            "uniform_mmHg": u,
+            "uniform_reduction": 0.2,
+            "confirmed_mmHg": c,
+            "confirmed_error_mmHg": e,
+        }
+        for name, z, t, u, c, e in (
+            ("hip", 0.86, 15.0, 14.0, 15.1, 0.2),
+            ("waist", 1.04, 20.0, 16.0, 19.9, float("nan")),
+        )
+    ]
+    drawn = {}
+    monkeypatch.setattr(
+        cloth.pipeline.designplots, "save_figure", lambda fig, path: drawn.setdefault("fig", fig)
+    )
+    plot_profile_design(rows, tmp_path / "p.png")
+    (ax,) = drawn["fig"].axes
+    lines = {ln.get_label(): ln for ln in ax.lines}
+    np.testing.assert_allclose(lines["target"].get_xdata(), [15.0, 20.0])
+    np.testing.assert_allclose(lines["target"].get_ydata(), [0.86, 1.04])
+    np.testing.assert_allclose(lines["uniform reduction 0.200"].get_xdata(), [14.0, 16.0])
+    confirmed = ax.containers[0]
+    np.testing.assert_allclose(np.asarray(confirmed[0].get_xdata(), float), [15.1, 19.9])
+    segments = np.asarray(confirmed[2][0].get_segments())
+    np.testing.assert_allclose(np.ptp(segments[:, :, 0], axis=1), [0.4, 0.0])  # NaN: no bar
+    assert [t.get_text() for t in ax.texts] == ["hip", "waist"]

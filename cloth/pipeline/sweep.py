@@ -22,7 +22,6 @@ import numpy as np
 import xarray as xr
 
 from cloth.errors import InputError
-from cloth.figures.plots import class_bands, judge_of, plt, save_figure
 from cloth.io import atomic_output, global_attrs, read_netcdf
 from cloth.pipeline.variants import COORDINATES, KEYS, Variant, entry_keys
 from cloth.results.landmarks import LANDMARK_FIELDS
@@ -113,7 +112,7 @@ def collect(index: list[dict], results: list[str | Path]) -> xr.Dataset:
     return xr.Dataset(variables, coords=coords, attrs=attrs)
 
 
-def _combinations(ds: xr.Dataset, dims: tuple[str, ...]) -> list[dict]:
+def combinations(ds: xr.Dataset, dims: tuple[str, ...]) -> list[dict]:
     """Every combination of the coordinates of ``dims`` (a selection each)."""
     return [
         dict(zip(dims, combo, strict=True))
@@ -137,7 +136,7 @@ def sweep_rows(ds: xr.Dataset) -> list[dict[str, object]]:
         for d in ("material", "body", "reduction", *variant_dims(ds))
         if not (both and d == "worn")
     )
-    for where in _combinations(ds, (*dims, "landmark")):
+    for where in combinations(ds, (*dims, "landmark")):
         at = ds.sel(where | ({"worn": 0} if both else {}))
         if not np.isfinite(float(at["pressure_mean"])):
             continue
@@ -201,7 +200,7 @@ def design(ds: xr.Dataset, targets: list[dict]) -> list[dict[str, object]]:
                 "targets",
             )
         goal = target_pa(target)
-        for where in _combinations(ds, ("material", "body", *variant_dims(ds))):
+        for where in combinations(ds, ("material", "body", *variant_dims(ds))):
             p = ds["pressure_mean"].sel(where | {"landmark": landmark}).values
             ok = np.isfinite(p)
             row = {
@@ -320,67 +319,3 @@ def confirm(
             )
         out.append(record)
     return out
-
-
-def plot_design(ds: xr.Dataset, targets: list[dict], path: str | Path) -> Path:
-    """Landmark pressure against reduction per fabric and body, with the class bands in the
-    panel of the class point where the sweep's lines include it (`class_bands`); a
-    sweep with variants draws each line at every key's first value and shades the spread that
-    each varied key causes (`cloth.pipeline.variants`)."""
-    landmarks = ds["landmark"].values.tolist()
-    fig, axes = plt.subplots(
-        1,
-        len(landmarks),
-        figsize=(3.6 * len(landmarks), 3.8),
-        sharey=True,
-        layout="constrained",
-        squeeze=False,
-    )
-    bands = class_bands(ds)
-    point = judge_of(ds).class_point
-    for ax, landmark in zip(axes[0], landmarks, strict=True):
-        for name, lo, hi in bands if landmark == point else []:
-            ax.axhspan(lo, hi, color="tab:red", alpha=0.08, gid="class-band")
-            ax.text(
-                ds["reduction"].values.min(),
-                (lo + hi) / 2,
-                f" class {name}",
-                fontsize=7,
-                va="center",
-            )
-        percent = 100 * ds["reduction"].values
-        variants = variant_dims(ds)
-        first = {dim: ds[dim].values[0] for dim in variants}  # the line: each key's first value
-        for where in _combinations(ds, ("material", "body")):
-            line = ds["pressure_mean"].sel(where | first | {"landmark": landmark}) / MMHG
-            label = ", ".join(
-                [str(v) for v in where.values()]
-                + [Variant.of({d: v for d, v in first.items()}).label()]
-            ).strip(", ")
-            bars = mean_error(ds).sel(where | first | {"landmark": landmark}).values / MMHG
-            drawn = ax.errorbar(
-                percent, line.values, yerr=np.nan_to_num(bars), fmt="o-", capsize=2, label=label
-            ).lines[0]
-            for hatch, dim in zip(("", "//", ".."), variants, strict=False):
-                if ds.sizes[dim] < 2:
-                    continue  # the spread each varied key causes, the others at their first
-                others = {d: v for d, v in first.items() if d != dim}
-                spread = ds["pressure_mean"].sel(where | others | {"landmark": landmark}) / MMHG
-                ax.fill_between(
-                    percent,
-                    spread.min(dim).values,
-                    spread.max(dim).values,
-                    color=drawn.get_color(),
-                    alpha=0.15,
-                    hatch=hatch,
-                    label=f"{label}: spread over {dim.replace('_', ' ')}",
-                )
-        for target in targets:
-            if target["landmark"] == landmark:
-                ax.axhline(target_pa(target) / MMHG, color="k", ls="--", lw=0.8, label="target")
-        ax.set_title(landmark)
-        ax.set_xlabel("pattern reduction [%]")
-        ax.grid(alpha=0.3)
-    axes[0][0].set_ylabel("mean pressure on the girth line [mmHg]")
-    axes[0][-1].legend(fontsize=7)
-    return save_figure(fig, path)

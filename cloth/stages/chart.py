@@ -43,6 +43,7 @@ from cloth.figures.plots import save_figure
 from cloth.files.piece import SEAM_ALLOWANCE_MM
 from cloth.paths import input_file
 from cloth.pipeline.config import load_case
+from cloth.pipeline.designplots import plot_profile_design
 from cloth.pipeline.sweep import write_rows
 from cloth.results.targets import Target
 from cloth.stages.design import TOLERANCE, Design
@@ -50,7 +51,6 @@ from cloth.stages.graded import (
     check_targets,
     cut_of,
     design_one,
-    plot_profile_design,
     raise_unmet,
     target_note,
 )

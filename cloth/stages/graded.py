@@ -31,18 +31,17 @@ from __future__ import annotations
 import logging
 from pathlib import Path
 
-import matplotlib.pyplot as plt
 import numpy as np
 import xarray as xr
 
 from cloth.case import Case
 from cloth.errors import InputError
-from cloth.figures.plots import save_figure
 from cloth.files.body import body_from_record
 from cloth.files.casefile import write_case
 from cloth.files.pattern import CUTS
 from cloth.files.piece import SEAM_ALLOWANCE_MM
 from cloth.pipeline.config import load_case
+from cloth.pipeline.designplots import plot_profile_design
 from cloth.pipeline.sweep import write_rows
 from cloth.results.pressure import MMHG
 from cloth.results.targets import Target
@@ -212,42 +211,3 @@ def confirmed_rows(result: Design, confirmed: xr.Dataset) -> list[dict[str, obje
         row["equilibria"] = result.solves + 1
         rows.append(row)
     return rows
-
-
-def plot_profile_design(rows: list[dict[str, object]], path: Path) -> Path:
-    """Per girth line (by height): the target, the uniform answer and the confirmed graded one
-    with its estimated error, mmHg."""
-    height = np.array([row["height_m"] for row in rows], dtype=float)
-    fig, ax = plt.subplots(figsize=(5.5, 4.2), layout="constrained")
-    ax.plot([row["target_mmHg"] for row in rows], height, "k*", ms=11, label="target")
-    if "uniform_mmHg" in rows[0]:
-        ax.plot(
-            [row["uniform_mmHg"] for row in rows],
-            height,
-            "s--",
-            color="tab:gray",
-            label=f"uniform reduction {float(rows[0]['uniform_reduction']):.3f}",
-        )
-    error = np.array([row["confirmed_error_mmHg"] for row in rows], dtype=float)
-    ax.errorbar(
-        [row["confirmed_mmHg"] for row in rows],
-        height,
-        xerr=np.where(np.isfinite(error), error, 0.0),
-        fmt="o-",
-        color="tab:red",
-        capsize=3,
-        label="graded pattern (confirmed)",
-    )
-    for row, z in zip(rows, height, strict=True):
-        ax.annotate(
-            str(row["landmark"]),
-            (float(row["target_mmHg"]), z),
-            xytext=(6, 4),
-            textcoords="offset points",
-            fontsize=8,
-        )
-    ax.set_xlabel("mean pressure on the girth line [mmHg]")
-    ax.set_ylabel("height [m]")
-    ax.set_title("graded pattern to a pressure profile", fontsize=10)
-    ax.legend(fontsize=8)
-    return save_figure(fig, path)

@@ -9,12 +9,12 @@ from pathlib import Path
 
 from cloth.figures.onbody import plot_sweep_on_body
 from cloth.io import read_netcdf, write_netcdf
+from cloth.pipeline.designplots import plot_design
 from cloth.pipeline.sweep import (
     collect,
     confirm,
     design,
     design_header,
-    plot_design,
     read_design,
     sweep_rows,
     write_rows,
