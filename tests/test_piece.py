@@ -132,3 +132,106 @@ def test_a_piece_is_printed_on_the_orientation_with_fewer_tiles(tmp_path, width,
     sizes = [(round(float(w), 1), round(float(h), 1)) for w, h in boxes]
     assert sizes[0] == (595.3, 841.9) and len(sizes) == 2  # the cover, portrait; one tile
     assert set(sizes[1:]) == pages
+
+
+def test_a_tiled_print_is_at_one_to_one_and_its_tiles_meet_at_shared_crosses(tmp_path, monkeypatch):
+    """A piece 600 x 420 mm with two girth lines on A4: every page's figure read back. The
+    cover's check square is 100 mm (283.46 pt in the PDF), its text says how many pages follow
+    and names every tile on its map; each tile maps its window onto the printable area at one
+    printed mm per mm, draws the cut line, the sew line, the notches and the girth lines of the
+    piece; neighbouring windows overlap by 15 mm, and the crosses in a shared band sit at the
+    same places of the piece on both tiles."""
+    import zlib
+
+    import cloth.files.printout as printout
+
+    height = np.linspace(0.0, 420.0, 8)
+    pattern = Pattern(
+        height=height,
+        width=np.full(8, 600.0),
+        circumference=np.full(8, 1200.0),
+        cut_height=1e-3 * height,
+        reduction=None,
+        lines=(("waist", 100.0), ("hip", 300.0)),
+        cut="two-panel",
+    )
+    piece = piece_of(pattern, "M", "test")
+    pages = []
+    for name in ("_cover", "_tile"):
+        original = getattr(printout, name)
+        monkeypatch.setattr(
+            printout, name, lambda *a, _f=original, **k: pages.append(_f(*a, **k)) or pages[-1]
+        )
+    path = write_pdf(piece, tmp_path / "p.pdf", "A4")
+    cover, tiled = pages[0], pages[1:]
+    assert len(tiled) > 1  # the piece does not fit one page
+    data = path.read_bytes()
+    assert len(re.findall(rb"/MediaBox", data)) == 1 + len(tiled)
+    streams = []
+    for raw in re.findall(rb"stream\r?\n(.*?)\r?\nendstream", data, re.S):
+        try:
+            streams.append(zlib.decompress(raw))
+        except zlib.error:
+            streams.append(raw)
+    square = 100.0 / 25.4 * 72  # pt
+    sides = [
+        float(np.ptp(points[:, 0]))
+        for stream in streams
+        for path_ in re.findall(rb"((?:[-\d.]+ [-\d.]+ [ml]\s+){5})h", stream)
+        for points in [
+            np.array([[float(v) for v in p.split()[:2]] for p in path_.strip().splitlines()])
+        ]
+        if abs(np.ptp(points[:, 0]) - np.ptp(points[:, 1])) < 1e-3
+    ]
+    assert any(abs(side - square) < 1e-3 for side in sides), sides
+    texts = [t.get_text() for t in cover.axes[0].texts]
+    assert f"Paper: A4; {len(tiled)} page(s) after this one, portrait" in texts or (
+        f"Paper: A4; {len(tiled)} page(s) after this one, landscape" in texts
+    )
+    windows = {}
+    for fig in tiled:
+        (ax,) = fig.axes
+        (title,) = fig.texts
+        name = title.get_text().split("tile ")[1].split(" ")[0]
+        x0, x1 = ax.get_xlim()
+        y0, y1 = ax.get_ylim()
+        windows[name] = (x0, y0, x1, y1)
+        width_mm, height_mm = (v * 25.4 for v in fig.get_size_inches())
+        box = ax.get_position()
+        assert box.width * width_mm == pytest.approx(x1 - x0, abs=1e-9)  # 1 printed mm per mm
+        assert box.height * height_mm == pytest.approx(y1 - y0, abs=1e-9)
+        assert box.x0 * width_mm == pytest.approx(
+            MARGIN_MM
+        ) and box.y0 * height_mm == pytest.approx(MARGIN_MM)
+        outline = ax.patches[0].get_xy()
+        np.testing.assert_allclose(outline[: len(piece.cut)], piece.cut)
+        assert any(np.allclose(p.get_xy()[: len(piece.sew)], piece.sew) for p in ax.patches[1:])
+        girths = [ln for ln in ax.lines if ln.get_color() == "tab:red"]
+        assert sorted(float(ln.get_ydata()[0]) for ln in girths) == [100.0, 300.0]
+    assert set(windows) <= {t for t in texts if len(t) == 2}  # the map names every tile
+    cut = piece.cut
+    for x, y in cut:  # the tiles cover the cut line
+        assert any(a <= x <= c and b <= y <= d for a, b, c, d in windows.values())
+    crosses = {}
+    for fig, name in zip(tiled, windows, strict=True):
+        (ax,) = fig.axes
+        bars = [ln for ln in ax.lines if ln.get_color() == "black" and len(ln.get_xdata()) == 2]
+        centres = {
+            (round(float(np.mean(ln.get_xdata())), 6), round(float(np.mean(ln.get_ydata())), 6))
+            for ln in bars
+            if np.ptp(ln.get_xdata()) == 8.0 or np.ptp(ln.get_ydata()) == 8.0
+        }
+        crosses[name] = centres
+    for a, wa in windows.items():
+        for b, wb in windows.items():
+            same_row, same_column = a[0] == b[0], a[1:] == b[1:]
+            if same_row and int(b[1:]) == int(a[1:]) + 1:  # b right of a
+                assert wa[2] - wb[0] == pytest.approx(OVERLAP_MM)
+                middle = round(0.5 * (wb[0] + wa[2]), 6)  # the crosses on the band's middle
+                band = {p for p in crosses[a] if p[0] == middle}
+                assert len(band) == 3 and band == {p for p in crosses[b] if p[0] == middle}
+            if same_column and ord(b[0]) == ord(a[0]) + 1:  # b above a
+                assert wa[3] - wb[1] == pytest.approx(OVERLAP_MM)
+                middle = round(0.5 * (wb[1] + wa[3]), 6)
+                band = {p for p in crosses[a] if p[1] == middle}
+                assert len(band) == 3 and band == {p for p in crosses[b] if p[1] == middle}
