@@ -379,3 +379,80 @@ def test_the_cut_auto_is_a_tube_on_a_leg_and_two_panels_elsewhere(body, cut, exp
         }
     )
     assert cut_of(case, cut) == expected
+
+
+def _design_in_process(tmp_path: Path, targets: dict[str, float]):
+    """`design_files` run in this process on a tube on the cylinder (16 x 7, two lines): the
+    outcome, or the error it raised after writing its files, and the output folder."""
+    from cloth.stages.graded import design_files
+
+    case = {
+        "material": "powernet",
+        "body": {"cylinder": {"radius": RADIUS}},
+        "landmarks": {"low": 0.2, "high": 0.3},
+        "garment": {
+            "bottom": 0.1,
+            "top": 0.4,
+            "grid": [16, 7],
+            "reduction": {"low": 0.2, "high": 0.2},
+            "error_estimate": False,
+        },
+    }
+    (tmp_path / "case.yaml").write_text(yaml.safe_dump(case))
+    goals = [Target(line, p * MMHG) for line, p in targets.items()]
+    out = tmp_path / "out"
+    try:
+        return design_files(tmp_path / "case.yaml", goals, out, cut="tube", allowance=0.0), out
+    except InputError as error:
+        return error, out
+
+
+def test_a_graded_design_s_files_are_its_loop_and_its_confirmation_in_process(tmp_path):
+    """design_iterations.csv: one row per equilibrium of the loop, its knots and line means,
+    the last the designed case's knots and the loop's values; design_confirmed.csv the
+    confirmation's own result.nc; the pattern's CSV its rows, its SVG the targets' note."""
+    result, out = _design_in_process(tmp_path, {"low": 18.0, "high": 22.0})
+    with open(out / "design_iterations.csv", newline="") as handle:
+        iterations = list(csv.DictReader(handle))
+    assert [int(r["equilibrium"]) for r in iterations] == list(range(1, len(result.iterates) + 1))
+    assert len(iterations) == result.solves  # a graded start: no uniform equilibrium
+    for row, iterate in zip(iterations, result.iterates, strict=True):
+        assert int(row["newton_iterations"]) == iterate.iterations
+    last = iterations[-1]
+    designed = yaml.safe_load((out / "case.yaml").read_text())["garment"]["reduction"]
+    confirmed = xr.load_dataset(out / "confirmed" / "result.nc")
+    with open(out / "design_confirmed.csv", newline="") as handle:
+        rows = {r["landmark"]: r for r in csv.DictReader(handle)}
+    for line, target in (("low", 18.0), ("high", 22.0)):
+        assert float(last[f"reduction_{line}"]) == pytest.approx(designed[line], rel=1e-5)
+        assert float(last[f"{line}_mmHg"]) == pytest.approx(
+            float(rows[line]["designed_mmHg"]), rel=1e-5
+        )
+        value = float(confirmed["pressure_mean"].sel(landmark=line)) / 133.322387415
+        assert float(rows[line]["confirmed_mmHg"]) == pytest.approx(value, rel=1e-5)
+        assert abs(value - target) <= 0.5 and rows[line]["met"] == "1"
+        assert float(rows[line]["target_mmHg"]) == pytest.approx(target)
+        assert int(rows[line]["equilibria"]) == len(iterations) + 1
+    with open(out / "pattern.csv", newline="") as handle:
+        pattern = list(csv.DictReader(line for line in handle if not line.startswith("#")))
+    np.testing.assert_allclose(
+        [float(r["rest_circumference_mm"]) for r in pattern],
+        1e3 * confirmed["rest_circumference"].values,
+        atol=1e-4,
+    )
+    assert {r["cut"] for r in pattern} == {"tube"}
+    note = "pressure targets (mmHg): low 18, high 22"  # the nest's annotation
+    assert note in (out / "pattern_astm.dxf").read_text(errors="replace")
+    assert (out / "design_profile.png").stat().st_size > 10_000
+
+
+def test_a_target_out_of_reach_is_refused_after_the_files_are_written(tmp_path):
+    """A low line at 150 mmHg, past the lab curve: one error naming the targets, the best
+    pattern's files written."""
+    error, out = _design_in_process(tmp_path, {"low": 150.0, "high": 20.0})
+    assert isinstance(error, InputError) and error.field == "targets"
+    assert "low" in str(error) and "not reached" in str(error)
+    assert (out / "design_confirmed.csv").is_file() and (out / "pattern.csv").is_file()
+    (tmp_path / "none").mkdir()
+    error, _ = _design_in_process(tmp_path / "none", {})
+    assert isinstance(error, InputError) and "give at least one target" in str(error)
