@@ -415,3 +415,30 @@ def test_every_path_key_of_a_case_has_a_row():
     for keys in PATH_KEYS:
         row = table.get(("case.yaml", ".".join(keys)))
         assert row is not None and row.unit == "path", keys
+
+
+def test_the_provenance_names_the_code_s_revision_from_any_working_folder(tmp_path, monkeypatch):
+    """result.nc's ``git_revision`` is the revision of the code that wrote it, not of the
+    repository the user runs it in (here another repository with its own commit)."""
+    import shutil
+    import subprocess
+
+    from cloth.files.result import git_revision
+
+    git = shutil.which("git")
+    if git is None:
+        pytest.skip("git is not installed")
+    here = subprocess.run(
+        [git, "rev-parse", "--short", "HEAD"], cwd=inventory.ROOT, capture_output=True, text=True
+    ).stdout.strip()
+    if not here:
+        pytest.skip("the code is not in a git checkout")
+    other = tmp_path / "other"
+    other.mkdir()
+    for command in (
+        ["init", "-q"],
+        ["-c", "user.name=t", "-c", "user.email=t@t", "commit", "-q", "--allow-empty", "-m", "x"],
+    ):
+        subprocess.run([git, *command], cwd=other, check=True)
+    monkeypatch.chdir(other)
+    assert git_revision() == here
