@@ -381,13 +381,16 @@ def test_the_cut_auto_is_a_tube_on_a_leg_and_two_panels_elsewhere(body, cut, exp
     assert cut_of(case, cut) == expected
 
 
-def _design_in_process(tmp_path: Path, targets: dict[str, float]):
-    """`design_files` run in this process on a tube on the cylinder (16 x 7, two lines): the
-    outcome, or the error it raised after writing its files, and the output folder."""
+def _design_in_process(tmp_path: Path, targets: dict[str, float], **options):
+    """`design_files` run in this process on a tube on the cylinder (16 x 7, two lines), its
+    lab table beside the case (a relative path), into a folder two levels down: the outcome,
+    or the error it raised after writing its files, and the output folder."""
     from cloth.stages.graded import design_files
 
+    (tmp_path / "tables").mkdir(parents=True, exist_ok=True)
+    (tmp_path / "tables" / "net.csv").write_text((ROOT / "data/materials/powernet.csv").read_text())
     case = {
-        "material": "powernet",
+        "material": "tables/net.csv",
         "body": {"cylinder": {"radius": RADIUS}},
         "landmarks": {"low": 0.2, "high": 0.3},
         "garment": {
@@ -400,18 +403,24 @@ def _design_in_process(tmp_path: Path, targets: dict[str, float]):
     }
     (tmp_path / "case.yaml").write_text(yaml.safe_dump(case))
     goals = [Target(line, p * MMHG) for line, p in targets.items()]
-    out = tmp_path / "out"
+    out = tmp_path / "designs" / "style"
     try:
-        return design_files(tmp_path / "case.yaml", goals, out, cut="tube", allowance=0.0), out
+        return design_files(tmp_path / "case.yaml", goals, out, **options), out
     except InputError as error:
         return error, out
 
 
-def test_a_graded_design_s_files_are_its_loop_and_its_confirmation_in_process(tmp_path):
+def test_a_graded_design_s_files_are_its_loop_and_its_confirmation_in_process(tmp_path, caplog):
     """design_iterations.csv: one row per equilibrium of the loop, its knots and line means,
     the last the designed case's knots and the loop's values; design_confirmed.csv the
-    confirmation's own result.nc; the pattern's CSV its rows, its SVG the targets' note."""
-    result, out = _design_in_process(tmp_path, {"low": 18.0, "high": 22.0})
+    confirmation's own result.nc; the pattern files in the cut, allowance and paper asked, the
+    nest named after the folder and noting the targets; the log line counts the equilibria."""
+    import logging
+
+    caplog.set_level(logging.INFO, logger="cloth.stages.graded")
+    result, out = _design_in_process(
+        tmp_path, {"low": 18.0, "high": 22.0}, allowance=0.0, paper="letter"
+    )
     with open(out / "design_iterations.csv", newline="") as handle:
         iterations = list(csv.DictReader(handle))
     assert [int(r["equilibrium"]) for r in iterations] == list(range(1, len(result.iterates) + 1))
@@ -419,12 +428,16 @@ def test_a_graded_design_s_files_are_its_loop_and_its_confirmation_in_process(tm
     for row, iterate in zip(iterations, result.iterates, strict=True):
         assert int(row["newton_iterations"]) == iterate.iterations
     last = iterations[-1]
-    designed = yaml.safe_load((out / "case.yaml").read_text())["garment"]["reduction"]
+    designed = yaml.safe_load((out / "case.yaml").read_text())
+    assert designed["material"] == "../../tables/net.csv"  # relative to the design's folder
     confirmed = xr.load_dataset(out / "confirmed" / "result.nc")
+    assert not (out / "confirmed" / "figures").exists()  # confirmed up to aggregate only
     with open(out / "design_confirmed.csv", newline="") as handle:
         rows = {r["landmark"]: r for r in csv.DictReader(handle)}
     for line, target in (("low", 18.0), ("high", 22.0)):
-        assert float(last[f"reduction_{line}"]) == pytest.approx(designed[line], rel=1e-5)
+        assert float(last[f"reduction_{line}"]) == pytest.approx(
+            designed["garment"]["reduction"][line], rel=1e-5
+        )
         assert float(last[f"{line}_mmHg"]) == pytest.approx(
             float(rows[line]["designed_mmHg"]), rel=1e-5
         )
@@ -440,19 +453,61 @@ def test_a_graded_design_s_files_are_its_loop_and_its_confirmation_in_process(tm
         1e3 * confirmed["rest_circumference"].values,
         atol=1e-4,
     )
-    assert {r["cut"] for r in pattern} == {"tube"}
-    note = "pressure targets (mmHg): low 18, high 22"  # the nest's annotation
-    assert note in (out / "pattern_astm.dxf").read_text(errors="replace")
+    assert {r["cut"] for r in pattern} == {"two-panel"}  # auto on a cylinder
+    files = {p.name for p in out.iterdir()}
+    assert {"pattern.svg", "pattern.pdf", "pattern_astm.dxf"} <= files
+    assert "pattern_knitting.csv" not in files  # two panels are not knitted in the round
+    nest = (out / "pattern_astm.dxf").read_text(errors="replace")
+    assert "pressure targets (mmHg): low 18, high 22" in nest
+    assert "Style Name: style" in nest and "Seam Allowance: 0 mm" in nest
+    media = (out / "pattern.pdf").read_bytes()
+    assert b"/MediaBox [ 0 0 612 792 ]" in media or b"/MediaBox [0 0 612 792]" in media
     assert (out / "design_profile.png").stat().st_size > 10_000
+    equilibria = result.solves + 1
+    logged = (
+        f"design: every target met in {equilibria} equilibria ({result.solves} in the loop, "
+        "1 confirmation)"
+    )
+    assert logged in caplog.text and "no DXF" not in caplog.text
 
 
 def test_a_target_out_of_reach_is_refused_after_the_files_are_written(tmp_path):
-    """A low line at 150 mmHg, past the lab curve: one error naming the targets, the best
-    pattern's files written."""
+    """A low line at 150 mmHg, past the lab curve: one error naming the case and the targets,
+    the best pattern's files written (into an output folder that already exists)."""
+    (tmp_path / "designs" / "style").mkdir(parents=True)
     error, out = _design_in_process(tmp_path, {"low": 150.0, "high": 20.0})
     assert isinstance(error, InputError) and error.field == "targets"
+    assert str(error.source) == str(tmp_path / "case.yaml")
     assert "low" in str(error) and "not reached" in str(error)
     assert (out / "design_confirmed.csv").is_file() and (out / "pattern.csv").is_file()
     (tmp_path / "none").mkdir()
     error, _ = _design_in_process(tmp_path / "none", {})
-    assert isinstance(error, InputError) and "give at least one target" in str(error)
+    assert isinstance(error, InputError) and error.field == "--target"
+    assert "give at least one target, e.g. --target waist=20" in str(error)
+
+
+def test_a_design_confirmed_off_its_target_names_the_worst_line():
+    """The loop met its targets but the confirmation from scratch did not: the error names the
+    line furthest off, its confirmed value and its target +- the tolerance, in mmHg."""
+    from types import SimpleNamespace
+
+    from cloth.stages.graded import raise_unmet
+
+    rows = [
+        {"landmark": "low", "confirmed_mmHg": 18.2, "target_mmHg": 18.0, "met": 1},
+        {"landmark": "high", "confirmed_mmHg": 21.1, "target_mmHg": 22.0, "met": 0},
+        {"landmark": "top", "confirmed_mmHg": 14.5, "target_mmHg": 15.0, "met": 1},
+    ]
+    done = SimpleNamespace(shortfall=None)
+    with pytest.raises(InputError) as caught:
+        raise_unmet(done, rows, 0.5 * MMHG, "case.yaml")
+    assert str(caught.value.source) == "case.yaml" and caught.value.field == "targets"
+    assert "high: confirmed at 21.10 mmHg from scratch, target 22.00 +- 0.5 mmHg" in str(
+        caught.value
+    )
+    assert "differ (see design_confirmed.csv)" in str(caught.value)
+    raise_unmet(done, [{**row, "met": 1} for row in rows], 0.5 * MMHG, "case.yaml")  # no error
+    with pytest.raises(InputError) as short:
+        raise_unmet(SimpleNamespace(shortfall="bust: not reached"), rows, 1.0, "c.yaml")
+    assert str(short.value).endswith("bust: not reached") and short.value.field == "targets"
+    assert str(short.value.source) == "c.yaml"

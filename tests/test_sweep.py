@@ -105,6 +105,45 @@ def test_collect_stacks_each_case_at_its_coordinates_with_units(swept):
         collect(index, paths[:-1])
 
 
+def test_sweep_nc_is_cf_every_variable_described_and_the_flags_typed(swept):
+    index, paths = swept
+    ds = collect(index, paths)
+    for name in ds.data_vars:
+        assert ds[name].attrs["long_name"] and "units" in ds[name].attrs, name
+    assert ds["pressure_mean_error"].attrs["long_name"].startswith("estimated discretisation")
+    assert ds["converged"].dtype == np.int8
+    np.testing.assert_array_equal(ds["converged"].attrs["flag_values"], [0, 1])
+    assert ds["converged"].attrs["flag_values"].dtype == np.int8
+    assert ds["worn"].attrs["flag_values"].dtype == np.int8
+    for name in ("material", "body", "reduction", "landmark"):
+        assert ds[name].attrs["long_name"]
+
+
+def test_a_result_without_its_mean_or_convergence_flag(tmp_path):
+    """A result.nc without ``pressure_mean`` is refused naming it; one without the
+    ``converged`` attribute counts as not converged."""
+    index = [
+        {"case": "a", "material": "m", "body": "b", "reduction": 0.1},
+        {"case": "c", "material": "m", "body": "b", "reduction": 0.2},
+    ]
+    bare = tmp_path / "bare.nc"
+    xr.Dataset(
+        {"pressure_max": ("landmark", [1.0])},
+        coords={"landmark": ["waist"]},
+        attrs={"cloth_kind": "result"},
+    ).to_netcdf(bare)
+    good = _result(tmp_path / "good.nc", [1000.0], lines=["waist"])
+    with pytest.raises(InputError, match="pressure_mean"):
+        collect(index, [good, bare])
+    unflagged = tmp_path / "unflagged.nc"
+    with xr.open_dataset(good) as ds:
+        plain = ds.load()
+    del plain.attrs["converged"]
+    plain.to_netcdf(unflagged)
+    ds = collect(index, [good, unflagged])
+    assert ds["converged"].values.ravel().tolist() == [1, 0]
+
+
 def test_a_case_missing_a_line_leaves_it_nan_and_other_lines_are_stacked(tmp_path):
     index = [
         {"case": "a", "material": "m", "body": "b", "reduction": 0.1},
