@@ -379,6 +379,10 @@ def test_the_cut_auto_is_a_tube_on_a_leg_and_two_panels_elsewhere(body, cut, exp
         }
     )
     assert cut_of(case, cut) == expected
+    with pytest.raises(InputError) as caught:
+        cut_of(case, "spiral")
+    assert caught.value.field == "--cut"
+    assert "unknown cut 'spiral'; give auto or one of two-panel, tube" in str(caught.value)
 
 
 def _design_in_process(tmp_path: Path, targets: dict[str, float], **options):

@@ -101,8 +101,10 @@ def test_collect_stacks_each_case_at_its_coordinates_with_units(swept):
     assert ds["reduction"].attrs["units"] == "1" and ds["worn"].dtype == np.int8
     assert ds["converged"].attrs["flag_meanings"] == "no yes"
     assert ds.attrs["cloth_kind"] == "sweep" and json.loads(ds.attrs["cases"]) == index
-    with pytest.raises(InputError, match=r"one result\.nc per sweep case"):
+    with pytest.raises(InputError) as caught:
         collect(index, paths[:-1])
+    assert caught.value.field == "results"
+    assert "give one result.nc per sweep case (4), got 3" in str(caught.value)
 
 
 def test_sweep_nc_is_cf_every_variable_described_and_the_flags_typed(swept):
@@ -256,8 +258,10 @@ def test_confirm_reads_each_answered_row_s_result_and_its_error(swept, tmp_path)
         assert record["error_percent"] == pytest.approx(100 * (factor - 1), rel=1e-4)
         assert record["converged"] == converged
     assert "confirmed_Pa" not in out[2]  # the unanswered row is passed on as it was
-    with pytest.raises(InputError, match=r"one result\.nc per answered target"):
+    with pytest.raises(InputError) as caught:
         confirm(read, confirmations[:1])
+    assert caught.value.field == "results"
+    assert "give one result.nc per answered target (2), got 1" in str(caught.value)
 
 
 def test_the_design_figure_draws_each_line_its_errors_and_the_target(swept, tmp_path, monkeypatch):
