@@ -235,3 +235,102 @@ def test_a_tiled_print_is_at_one_to_one_and_its_tiles_meet_at_shared_crosses(tmp
                 middle = round(0.5 * (wb[1] + wa[3]), 6)
                 band = {p for p in crosses[a] if p[1] == middle}
                 assert len(band) == 3 and band == {p for p in crosses[b] if p[1] == middle}
+
+
+def _printed(tmp_path, monkeypatch, piece, paper="A4"):
+    """The figures `write_pdf` draws for ``piece``: the cover, then the tiles."""
+    import cloth.files.printout as printout
+
+    pages = []
+    for name in ("_cover", "_tile"):
+        original = getattr(printout, name)
+        monkeypatch.setattr(
+            printout, name, lambda *a, _f=original, **k: pages.append(_f(*a, **k)) or pages[-1]
+        )
+    write_pdf(piece, tmp_path / "p.pdf", paper)
+    monkeypatch.undo()
+    return pages[0], pages[1:]
+
+
+def _wide_pattern(lines=(("waist", 100.0), ("hip", 300.0))) -> Pattern:
+    height = np.linspace(0.0, 420.0, 8)
+    return Pattern(
+        height=height,
+        width=np.full(8, 600.0),
+        circumference=np.full(8, 1200.0),
+        cut_height=1e-3 * height,
+        reduction=None,
+        lines=lines,
+        cut="two-panel",
+    )
+
+
+def test_every_text_of_the_print_says_what_a_cutter_reads(tmp_path, monkeypatch):
+    """The cover: the check square's label and instruction, the piece's annotation, the paper
+    and the pages after it, the tile map's title and names; each tile: its name, row and column
+    of how many, the grain's label, the girth lines' names, the annotation on the piece."""
+    piece = piece_of(_wide_pattern(), "M", "power net", 6.0, ["pressure targets (mmHg): waist 20"])
+    cover, tiled = _printed(tmp_path, monkeypatch, piece)
+    texts = [t.get_text() for t in cover.axes[0].texts]
+    assert texts[0] == "10 cm"
+    assert texts[1] == (
+        "Check square: it must measure 100 mm x 100 mm. If not, print at 100 % (actual size)."
+    )
+    annotation = [
+        "Piece Name: PANEL",
+        "Size: M",
+        "Quantity: 2",
+        "Material: power net",
+        "Seam Allowance: 6 mm",
+        "Annotation: pressure targets (mmHg): waist 20",
+    ]
+    assert piece.annotation() == annotation
+    orientation = (
+        "landscape" if cover.axes[0].texts and tiled[0].get_size_inches()[0] > 9 else ("portrait")
+    )
+    assert texts[2 : 2 + len(annotation)] == annotation
+    assert texts[2 + len(annotation)] == (
+        f"Paper: A4; {len(tiled)} page(s) after this one, {orientation}"
+    )
+    assert texts[-1] == "tiles (overlap dotted)"
+    rows = 1 + max(
+        ord(t.get_text().split("tile ")[1][0]) - ord("A") for fig in tiled for t in fig.texts
+    )
+    columns = len(tiled) // rows
+    names = sorted(f"{chr(ord('A') + r)}{c + 1}" for r in range(rows) for c in range(columns))
+    assert sorted(texts[3 + len(annotation) : -1]) == names  # the map names each tile once
+    for fig in tiled:
+        (title,) = fig.texts
+        name = title.get_text().split("tile ")[1].split(" ")[0]
+        r, c = ord(name[0]) - ord("A"), int(name[1:]) - 1
+        assert title.get_text() == (
+            f"PANEL M: tile {name} (row {r + 1} of {rows} from the bottom, "
+            f"column {c + 1} of {columns})"
+        )
+        (ax,) = fig.axes
+        drawn = [t.get_text() for t in ax.texts]
+        assert "grain (warp)" in drawn and "waist" in drawn and "hip" in drawn
+        assert drawn[-4:] == annotation[:4]
+        grain = next(t for t in ax.texts if t.get_text() == "grain (warp)")
+        assert grain.get_rotation() == 90.0
+        arrow = next(t for t in ax.texts if t.get_text() == "" and hasattr(t, "xy"))
+        np.testing.assert_allclose(arrow.xy, piece.grain[1])
+        np.testing.assert_allclose(arrow.xyann, piece.grain[0])
+        assert arrow.arrow_patch.get_arrowstyle().__class__.__name__ == "CurveAB"  # <->
+
+
+def test_a_net_pattern_prints_its_cut_line_only_and_its_notches_on_it(tmp_path, monkeypatch):
+    """Without a seam allowance the cut line is the sew line, drawn once; each notch is a
+    slit from the cut line inward, drawn where the piece says."""
+    piece = piece_of(_wide_pattern(), "S", "power net", 0.0)
+    _, tiled = _printed(tmp_path, monkeypatch, piece)
+    (ax,) = tiled[0].axes
+    assert len([p for p in ax.patches if p.__class__.__name__ == "Polygon"]) == 1
+    slits = {
+        tuple(np.round(np.concatenate([ln.get_xdata(), ln.get_ydata()]), 6))
+        for fig in tiled
+        for ln in fig.axes[0].lines
+    }
+    for start, end in piece.notches:
+        xs, ys = np.stack([start, end]).T
+        assert tuple(np.round(np.concatenate([xs, ys]), 6)) in slits
