@@ -285,9 +285,8 @@ def test_every_text_of_the_print_says_what_a_cutter_reads(tmp_path, monkeypatch)
         "Annotation: pressure targets (mmHg): waist 20",
     ]
     assert piece.annotation() == annotation
-    orientation = (
-        "landscape" if cover.axes[0].texts and tiled[0].get_size_inches()[0] > 9 else ("portrait")
-    )
+    width, height = tiled[0].get_size_inches()
+    orientation = "landscape" if width > height else "portrait"
     assert texts[2 : 2 + len(annotation)] == annotation
     assert texts[2 + len(annotation)] == (
         f"Paper: A4; {len(tiled)} page(s) after this one, {orientation}"
