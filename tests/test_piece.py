@@ -333,3 +333,25 @@ def test_a_net_pattern_prints_its_cut_line_only_and_its_notches_on_it(tmp_path, 
     for start, end in piece.notches:
         xs, ys = np.stack([start, end]).T
         assert tuple(np.round(np.concatenate([xs, ys]), 6)) in slits
+
+
+def test_every_line_of_the_print_is_exact_and_every_outline_open(tmp_path, monkeypatch):
+    """Snapping moves a line to the device's pixel grid, so a 1:1 print must have none; a
+    filled outline would print the piece solid. The check square is a 100 mm square on the
+    cover's printable area, the cut line black and solid."""
+    piece = piece_of(_wide_pattern(), "M", "power net", 6.0)
+    cover, tiled = _printed(tmp_path, monkeypatch, piece)
+    for fig in [cover, *tiled]:
+        (ax,) = fig.axes
+        for artist in [*ax.patches, *ax.lines]:
+            assert artist.get_snap() is False, artist
+        for patch in ax.patches:
+            assert not patch.get_fill(), patch
+    (square,) = [p for p in cover.axes[0].patches if p.__class__.__name__ == "Rectangle"][:1]
+    assert square.get_width() == square.get_height() == 100.0
+    x, y = square.get_xy()
+    width_mm, height_mm = (v * 25.4 for v in cover.get_size_inches())
+    assert MARGIN_MM <= x and x + 100.0 <= width_mm - MARGIN_MM
+    assert MARGIN_MM <= y and y + 100.0 <= height_mm - MARGIN_MM
+    cut = tiled[0].axes[0].patches[0]
+    assert cut.get_edgecolor() == (0.0, 0.0, 0.0, 1.0) and cut.get_linestyle() == "solid"

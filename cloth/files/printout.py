@@ -45,6 +45,27 @@ SQUARE_MM = 100.0
 #: Clearance around the piece's cut line, mm.
 CLEARANCE_MM = 5.0
 MM_PER_INCH = 25.4
+#: The print's pens (matplotlib keywords): line widths in pt, colours, dashes. Every line is
+#: unsnapped (its PDF coordinates exact) and every outline unfilled.
+PENS = {
+    "square": {"linewidth": 0.8},
+    "cut": {"linewidth": 0.8, "edgecolor": "black"},
+    "sew": {"linewidth": 0.5, "edgecolor": "0.3", "linestyle": "--"},
+    "notch": {"color": "black", "linewidth": 0.8},
+    "grain": {"arrowstyle": "<->", "linewidth": 0.6},
+    "girth": {"color": "tab:red", "linewidth": 0.5, "linestyle": "--"},
+    "map": {"linewidth": 0.6},
+    "map_tile": {"linewidth": 0.4, "linestyle": ":"},
+    "overlap": {"color": "0.4", "linewidth": 0.4, "linestyle": ":"},
+    "cross": {"color": "black", "linewidth": 0.5},
+}
+#: The print's type: font sizes in pt, and the cover's layout: the check square's and the
+#: text's distance from the printable area's top-left corner, the line pitch (mm).
+FONTS = {"cover": 9, "instruction": 8, "piece": 8, "small": 7, "map": 8}
+INSET_MM = 5.0
+LINE_PITCH_MM = 6.0
+#: Half the arm of an overlap cross, mm.
+CROSS_MM = 4.0
 
 
 def tiles(
@@ -131,24 +152,15 @@ def _cover(piece: Piece, paper: str, layout, bounds, turned: bool) -> plt.Figure
     ax.set_xlim(0.0, width)
     ax.set_ylim(0.0, height)
     ax.set_axis_off()
-    left, top = MARGIN_MM + 5.0, height - MARGIN_MM - 5.0
-    ax.add_patch(
-        Rectangle(
-            (left, top - SQUARE_MM),
-            SQUARE_MM,
-            SQUARE_MM,
-            fill=False,
-            linewidth=0.8,
-            snap=False,
-            gid="check-square",
-        )
-    )
+    left, top = MARGIN_MM + INSET_MM, height - MARGIN_MM - INSET_MM
+    square = (left, top - SQUARE_MM)
+    ax.add_patch(Rectangle(square, SQUARE_MM, SQUARE_MM, fill=False, snap=False, **PENS["square"]))
     ax.text(left + 0.5 * SQUARE_MM, top - 0.5 * SQUARE_MM, "10 cm", ha="center", va="center")
     ax.text(
         left,
-        top - SQUARE_MM - 6.0,
+        top - SQUARE_MM - LINE_PITCH_MM,
         "Check square: it must measure 100 mm x 100 mm. If not, print at 100 % (actual size).",
-        fontsize=8,
+        fontsize=FONTS["instruction"],
         va="top",
     )
     orientation = "landscape" if turned else "portrait"
@@ -156,10 +168,11 @@ def _cover(piece: Piece, paper: str, layout, bounds, turned: bool) -> plt.Figure
         *piece.annotation(),
         f"Paper: {paper}; {len(layout)} page(s) after this one, {orientation}",
     ]
+    below = top - SQUARE_MM - 20.0
     for k, text in enumerate(lines):
-        ax.text(left, top - SQUARE_MM - 20.0 - 6.0 * k, text, fontsize=9, va="top")
+        ax.text(left, below - LINE_PITCH_MM * k, text, fontsize=FONTS["cover"], va="top")
     if len(layout) > 1:
-        _tile_map(ax, layout, bounds, (left, MARGIN_MM + 5.0), piece)
+        _tile_map(ax, layout, bounds, (left, MARGIN_MM + INSET_MM), piece)
     return fig
 
 
@@ -173,21 +186,15 @@ def _tile_map(ax, layout, bounds, corner, piece: Piece) -> None:
     def at(x, y):
         return corner[0] + (x - x0) * scale, corner[1] + (y - y0) * scale
 
-    ax.add_patch(Polygon([at(*p) for p in piece.cut], fill=False, linewidth=0.6, snap=False))
+    outline = [at(*p) for p in piece.cut]
+    ax.add_patch(Polygon(outline, fill=False, snap=False, **PENS["map"]))
     for row, column, (a, b, c, d) in layout:
-        ax.add_patch(
-            Rectangle(
-                at(a, b),
-                (c - a) * scale,
-                (d - b) * scale,
-                fill=False,
-                linewidth=0.4,
-                linestyle=":",
-                snap=False,
-            )
-        )
-        ax.text(*at(0.5 * (a + c), 0.5 * (b + d)), tile_name(row, column), fontsize=7)
-    ax.text(corner[0], corner[1] + span_y * scale + 3.0, "tiles (overlap dotted)", fontsize=8)
+        size = ((c - a) * scale, (d - b) * scale)
+        ax.add_patch(Rectangle(at(a, b), *size, fill=False, snap=False, **PENS["map_tile"]))
+        name = tile_name(row, column)
+        ax.text(*at(0.5 * (a + c), 0.5 * (b + d)), name, fontsize=FONTS["small"])
+    title = (corner[0], corner[1] + span_y * scale + 3.0)
+    ax.text(*title, "tiles (overlap dotted)", fontsize=FONTS["map"])
 
 
 def _tile(
@@ -211,32 +218,27 @@ def _tile(
         f"(row {row + 1} of {rows} from the bottom, column {column + 1} of {columns})",
         ha="center",
         va="center",
-        fontsize=7,
+        fontsize=FONTS["small"],
     )
     return fig
 
 
 def _draw_piece(ax, piece: Piece) -> None:
-    style = {"snap": False, "fill": False}
-    ax.add_patch(Polygon(piece.cut, linewidth=0.8, edgecolor="black", **style))
+    ax.add_patch(Polygon(piece.cut, fill=False, snap=False, **PENS["cut"]))
     if piece.allowance > 0:
-        ax.add_patch(Polygon(piece.sew, linewidth=0.5, edgecolor="0.3", linestyle="--", **style))
+        ax.add_patch(Polygon(piece.sew, fill=False, snap=False, **PENS["sew"]))
     for start, end in piece.notches:
-        ax.plot(*np.stack([start, end]).T, color="black", linewidth=0.8, snap=False)
+        ax.plot(*np.stack([start, end]).T, snap=False, **PENS["notch"])
     (gx0, gy0), (gx1, gy1) = piece.grain
-    ax.annotate(
-        "",
-        xy=(gx1, gy1),
-        xytext=(gx0, gy0),
-        arrowprops={"arrowstyle": "<->", "linewidth": 0.6},
-    )
-    ax.text(gx0 + 3.0, 0.5 * (gy0 + gy1), "grain (warp)", rotation=90, fontsize=7, va="center")
+    ax.annotate("", xy=(gx1, gy1), xytext=(gx0, gy0), arrowprops=PENS["grain"])
+    grain = (gx0 + 3.0, 0.5 * (gy0 + gy1))
+    ax.text(*grain, "grain (warp)", rotation=90, fontsize=FONTS["small"], va="center")
     for name, y, left, right in piece.girths:
-        ax.plot([left, right], [y, y], color="tab:red", linewidth=0.5, linestyle="--", snap=False)
-        ax.text(left + 8.0, y + 1.5, name, fontsize=7, color="tab:red")
+        ax.plot([left, right], [y, y], snap=False, **PENS["girth"])
+        ax.text(left + 8.0, y + 1.5, name, fontsize=FONTS["small"], color=PENS["girth"]["color"])
     middle = 0.5 * float(piece.sew[:, 1].max())
     for k, text in enumerate(piece.annotation()[:4]):
-        ax.text(8.0, middle - 6.0 * k, text, fontsize=8)
+        ax.text(8.0, middle - LINE_PITCH_MM * k, text, fontsize=FONTS["piece"])
 
 
 def _overlaps(ax, window, below: bool, above: bool, left: bool, right: bool) -> None:
@@ -245,7 +247,7 @@ def _overlaps(ax, window, below: bool, above: bool, left: bool, right: bool) -> 
     x0, y0, x1, y1 = window
     half = 0.5 * OVERLAP_MM
     marks = []
-    style = {"color": "0.4", "linewidth": 0.4, "linestyle": ":", "snap": False}
+    style = {**PENS["overlap"], "snap": False}
     for shared, edge, middle in (
         (left, x0 + OVERLAP_MM, x0 + half),
         (right, x1 - OVERLAP_MM, x1 - half),
@@ -260,6 +262,7 @@ def _overlaps(ax, window, below: bool, above: bool, left: bool, right: bool) -> 
         if shared:
             ax.plot([x0, x1], [edge, edge], **style)
             marks += [(x, middle) for x in (x0 + OVERLAP_MM, 0.5 * (x0 + x1), x1 - OVERLAP_MM)]
+    arm = CROSS_MM
     for x, y in marks:
-        ax.plot([x - 4, x + 4], [y, y], color="black", linewidth=0.5, snap=False)
-        ax.plot([x, x], [y - 4, y + 4], color="black", linewidth=0.5, snap=False)
+        ax.plot([x - arm, x + arm], [y, y], snap=False, **PENS["cross"])
+        ax.plot([x, x], [y - arm, y + arm], snap=False, **PENS["cross"])
