@@ -193,3 +193,35 @@ def test_an_estimate_needs_three_levels(levels, code):
     values = list(_power_law(2.0))[:levels]
     grids = [(48, 24), (24, 12), (12, 6)][:levels]
     assert estimate_levels(values, grids).code == code
+
+
+def test_an_estimate_keeps_its_value_and_says_why_it_has_no_order():
+    """A missing estimate still reports its value, with the reason (and the order observed
+    outside the range); an observed one has no reason and flag 0; one stated from the finest
+    difference has no error or extrapolation."""
+    low = _power_law(0.3)
+    estimate = richardson(*low)
+    assert estimate.reported == low[0] and estimate.code == 5 and not estimate.observed
+    assert estimate.order == pytest.approx(0.3, abs=1e-9)
+    assert (
+        estimate.reason == "the observed order is outside the asymptotic range: 0.3, not in 0.5-4"
+    )
+    for levels, code in (((100.0, math.nan, 110.0), 2), ((100.0, 110.0, 110.0), 3)):
+        missing = richardson(*levels)
+        assert missing.code == code and missing.reported == 100.0 and missing.observed is False
+    wobbling = richardson(100.0, 104.0, 84.0)  # near -4, far +20: the finest difference
+    assert wobbling.code == 6 and wobbling.uncertainty == pytest.approx(3 * 4.0)
+    assert wobbling.reported == 100.0 and math.isnan(wobbling.error)
+    observed = richardson(*_power_law(2.0))
+    assert observed.reason == "" and observed.code == 0 and observed.observed is True
+
+
+def test_the_grid_spacing_is_the_side_of_a_square_cell_of_the_same_area():
+    assert grid_spacing(48, 24, around=0.8, height=0.3) == pytest.approx(
+        math.sqrt(0.8 / 48 * 0.3 / 23), rel=1e-15
+    )
+    assert grid_spacing(10, 2) == pytest.approx(math.sqrt(1 / 10), rel=1e-15)  # one row step
+    assert grid_spacing(10, 1) == pytest.approx(math.sqrt(1 / 10), rel=1e-15)  # no step: one
+    values, grids = list(_power_law(2.0)), [(48, 24), (24, 12)]
+    assert estimate_levels(values, grids).code == 1  # three values, two grids
+    assert estimate_levels(values[:2], [*grids, (12, 6)]).code == 1
