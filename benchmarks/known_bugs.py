@@ -253,8 +253,8 @@ BUGS = [
     Bug(
         "the hat kernel integrated as the biweight",
         "cloth/results/bands.py",
-        "    if name == \"hat\":\n        return t - 0.5 * t * np.abs(t)",
-        "    if name == \"hats\":\n        return t - 0.5 * t * np.abs(t)",
+        '    if name == "hat":\n        return t - 0.5 * t * np.abs(t)',
+        '    if name == "hats":\n        return t - 0.5 * t * np.abs(t)',
         "tests/test_reporting.py -k kernel",
     ),
     Bug(
