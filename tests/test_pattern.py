@@ -17,7 +17,7 @@ from scipy.interpolate import PchipInterpolator
 
 from cloth.case.profile import Profile
 from cloth.errors import InputError
-from cloth.files.pattern import write_pattern
+from cloth.files.pattern import pattern_of, write_csv, write_pattern
 from cloth.pipeline.config import validate_case
 from tests.conftest import load_result, run_result
 
@@ -317,3 +317,38 @@ def test_dxf_without_ezdxf_is_refused_before_any_file(graded, tmp_path, monkeypa
     with pytest.raises(InputError, match="no pattern_height") as e:
         pattern.write_pattern(stale, tmp_path / "q.csv", formats=["csv"])
     assert str(e.value.source) == str(stale)
+
+
+def test_a_shifted_pattern_s_girth_lines_are_where_its_rows_were_cut(tmp_path):
+    """A result worn on a body 0.05 m taller than the one its rows were cut for (cut_height's
+    ``shift``): its girth lines (worn heights) go back to the cut body's heights, interpolated
+    on the pattern's heights; a line beyond the cut rows is left out, and the CSV's girth-line
+    comments and its reduction column say so."""
+    cut = np.array([0.80, 0.90, 1.00])
+    result = xr.Dataset(
+        {
+            "rest_circumference": ("row", [0.70, 0.65, 0.72]),
+            "pattern_height": ("row", [0.0, 0.1, 0.2]),
+            "cut_height": ("row", cut, {"shift": 0.05}),
+            "landmark_height": ("landmark", [0.90, 1.00, 1.10]),
+        },
+        coords={"landmark": ["low", "mid", "high"]},
+    )
+    pattern = pattern_of(result, "tube")
+    assert [name for name, _ in pattern.lines] == ["low", "mid"]  # high: 1.05 m, past 1.00
+    assert pattern.lines[0][1] == pytest.approx(50.0) and pattern.lines[1][1] == pytest.approx(
+        150.0
+    )
+    assert pattern.line_heights == (("low", pytest.approx(0.85)), ("mid", pytest.approx(0.95)))
+    assert pattern.reduction is None
+    path = tmp_path / "p.csv"
+    write_csv(pattern, path)
+    text = path.read_text().splitlines()
+    assert text[:2] == ["# girth line low 0.850000000 m", "# girth line mid 0.950000000 m"]
+    rows = list(csv.DictReader(text[2:]))
+    assert [r["reduction"] for r in rows] == ["", "", ""]  # no row reductions in the result
+    lines = path.read_bytes().split(b"\n")[:-1]
+    assert all(line.endswith(b"\r") for line in lines)  # one line ending: RFC 4180's CRLF
+    unshifted = pattern_of(result.assign(cut_height=("row", cut)), "tube")
+    assert [name for name, _ in unshifted.lines] == ["low", "mid"]
+    assert unshifted.lines[0][1] == pytest.approx(100.0)

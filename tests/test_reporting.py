@@ -464,3 +464,28 @@ def test_every_judging_column_of_every_row():
     assert "pressure_band" not in b  # the case defines no bands
     zero = judged([{"landmark": "B", "pressure_mean_mmHg": 0.0}, rows[1]], judge)
     assert np.isnan(zero[1]["share_of_class_point"])
+
+
+@pytest.mark.parametrize(
+    ("height", "expected"),
+    [
+        (0.10, (0, 0, 0.0)),  # exactly the bottom row
+        (0.08, (0, 0, 0.0)),  # below it, within half a row spacing
+        (0.04, None),  # beyond that: not on the garment
+        (0.30, (2, 2, 0.0)),  # exactly the top row
+        (0.33, (2, 2, 0.0)),
+        (0.36, None),
+        (0.15, (0, 1, 0.5)),
+        (0.25, (1, 2, 0.5)),
+        (0.20, (1, 2, 0.0)),  # exactly an inner row: the weight of the row above is 0
+    ],
+)
+def test_a_girth_line_lies_between_its_rows_or_on_an_edge_row(height, expected):
+    """Rows at 0.1, 0.2, 0.3 m: the line's rows and the upper one's weight by hand."""
+    from cloth.results.landmarks import girth_line
+
+    line = girth_line(np.array([0.1, 0.2, 0.3]), height)
+    if expected is None:
+        assert line is None
+    else:
+        assert line[:2] == expected[:2] and line[2] == pytest.approx(expected[2], abs=1e-12)

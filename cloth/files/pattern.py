@@ -117,9 +117,9 @@ def write_csv(pattern: Pattern, path: Path) -> Path:
     HEIGHT m`` (its cut height), which a case's ``garment.pattern.file`` places the pattern by
     (`cloth.garment.cut.read_pattern`)."""
     with atomic_output(path) as tmp, tmp.open("w", newline="") as handle:
+        writer = csv.writer(handle)  # RFC 4180's CRLF, the comment lines' too
         for name, z in pattern.line_heights:
-            handle.write(f"{LINE_PREFIX}{name} {z:.9f} m\n")
-        writer = csv.writer(handle)
+            handle.write(f"{LINE_PREFIX}{name} {z:.9f} m{writer.dialect.lineterminator}")
         writer.writerow(
             [
                 "row",
