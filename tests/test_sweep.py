@@ -331,3 +331,52 @@ def test_the_profile_figure_draws_targets_uniform_and_confirmed_at_each_height(
     segments = np.asarray(confirmed[2][0].get_segments())
     np.testing.assert_allclose(np.ptp(segments[:, :, 0], axis=1), [0.4, 0.0])  # NaN: no bar
     assert [t.get_text() for t in ax.texts] == ["hip", "waist"]
+
+
+def _one_line_sweep(pressures, errors, reductions=(0.1, 0.15, 0.25)):
+    shape = (1, 1, len(reductions), 1)
+    dims = ("material", "body", "reduction", "landmark")
+    return xr.Dataset(
+        {
+            "pressure_mean": (dims, np.asarray(pressures, float).reshape(shape)),
+            "pressure_mean_error": (dims, np.asarray(errors, float).reshape(shape)),
+        },
+        coords={"material": ["m"], "body": ["b"], "reduction": list(reductions), "landmark": ["w"]},
+    )
+
+
+@pytest.mark.parametrize(
+    ("goal", "reduction", "error"),
+    [
+        (1250.0, 0.125, (0.5 * 30 + 0.5 * 40) / 10000),  # half-way in the first interval
+        (1500.0, 0.15, 40 / 20000),  # on the middle knot: the interval above it, t = 0
+        (3000.0, 0.225, (0.25 * 40 + 0.75 * 80) / 20000),  # three quarters into the second
+        (3500.0, 0.25, 80 / 20000),  # on the last knot
+    ],
+)
+def test_the_design_interval_interpolates_the_errors_of_the_interval_it_lies_in(
+    goal, reduction, error
+):
+    """Mean 1000, 1500, 3500 Pa at 0.1, 0.15, 0.25 (slopes 10000 and 20000 Pa), errors 30, 40,
+    80 Pa: the error at the answer is interpolated within its own interval, over its slope."""
+    (row,) = design(
+        _one_line_sweep([1000, 1500, 3500], [30, 40, 80]),
+        [{"landmark": "w", "pressure_kPa": goal / 1e3}],
+    )
+    assert row["reduction"] == pytest.approx(reduction)
+    assert row["reduction_error"] == pytest.approx(error)
+
+
+def test_a_flat_sweep_gives_an_unbounded_interval_and_unknown_lines_name_the_config():
+    (row,) = design(
+        _one_line_sweep([1000, 1000, 1000], [5, 5, 5]), [{"landmark": "w", "pressure_kPa": 1.0}]
+    )
+    assert row["status"] == "ok" and row["reduction_error"] == math.inf and row["slope_Pa"] == 0
+    with pytest.raises(InputError) as caught:
+        design(_one_line_sweep([1, 2, 3], [0, 0, 0]), [{"landmark": "knee", "pressure_mmHg": 2}])
+    assert caught.value.field == "targets" and str(caught.value.source) == "config"
+    low = design(
+        _one_line_sweep([1000, 1500, 3500], [1, 1, 1]), [{"landmark": "w", "pressure_kPa": 9}]
+    )
+    assert low[0]["message"].endswith("widen the reductions or choose another fabric")
+    assert low[0]["status"] == "out_of_range" and low[0]["slope_Pa"] != low[0]["slope_Pa"]
