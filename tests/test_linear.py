@@ -253,3 +253,68 @@ def test_a_cholesky_preconditioner_is_shifted_until_cholmod_takes_it():
     assert factorisations() - before == 4  # three refused, the fourth taken
     assert reuse.fallbacks == 0 and 0 < reuse.krylov[-1] <= KRYLOV_LIMIT
     assert np.linalg.norm(exact @ x - rhs) <= 1e-10 * np.linalg.norm(rhs)
+
+
+class _Diagonal:
+    """A preconditioner that solves with a diagonal: ``solve(r) = r / d``."""
+
+    def __init__(self, diagonal) -> None:
+        self.diagonal = np.asarray(diagonal, dtype=float)
+
+    def solve(self, r):
+        return r / self.diagonal
+
+
+@pytest.mark.parametrize("method", ["cg", "gmres"])
+def test_krylov_on_k_distinct_eigenvalues_takes_k_iterations(method):
+    """Without preconditioning (identity), a matrix with 3 distinct eigenvalues is solved in
+    exactly 3 Krylov iterations; with its own inverse as the preconditioner in 1."""
+    from cloth.solvers.krylov import cg_on, gmres_on
+
+    solve = cg_on if method == "cg" else gmres_on
+    diagonal = np.repeat([1.0, 4.0, 9.0], 20)
+    matrix = sp.diags(diagonal, format="csr")
+    rhs = np.random.default_rng(5).normal(size=60)
+    x, iterations = solve(matrix, _Diagonal(np.ones(60)), rhs, 1e-10)
+    assert iterations == 3
+    np.testing.assert_allclose(x, rhs / diagonal, rtol=1e-9)
+    x, iterations = solve(matrix, _Diagonal(diagonal), rhs, 1e-10)
+    assert iterations == 1 and x.dtype == np.float64
+    np.testing.assert_allclose(x, rhs / diagonal, rtol=1e-12)
+
+
+def test_cg_gives_up_on_negative_curvature_and_past_its_limit_and_answers_zero_at_once():
+    from cloth.solvers.krylov import cg_on
+
+    rhs = np.random.default_rng(6).normal(size=40)
+    assert cg_on(-sp.identity(40, format="csr"), _Diagonal(np.ones(40)), rhs, 1e-8) == (None, 1)
+    spread = sp.diags(np.geomspace(1.0, 1e6, 40), format="csr")  # 40 eigenvalues, 1e6 apart
+    x, iterations = cg_on(spread, _Diagonal(np.ones(40)), rhs, 1e-14)
+    assert x is None and KRYLOV_CHECK <= iterations <= KRYLOV_LIMIT
+    x, iterations = cg_on(spread, _Diagonal(np.ones(40)), np.zeros(40, dtype=int), 1e-8)
+    assert iterations == 0 and x.dtype == np.float64 and not x.any()
+
+
+def test_gmres_gives_up_where_it_would_not_reach_its_tolerance():
+    from cloth.solvers.krylov import gmres_on
+
+    rhs = np.random.default_rng(7).normal(size=40)
+    spread = sp.diags(np.geomspace(1.0, 1e6, 40), format="csr")
+    x, iterations = gmres_on(spread, _Diagonal(np.ones(40)), rhs, 1e-14)
+    assert x is None and KRYLOV_CHECK <= iterations <= KRYLOV_LIMIT
+
+
+@pytest.mark.parametrize(
+    ("residual", "iterations", "rtol", "hopeless"),
+    [
+        (1.0, 10, 1e-3, True),  # no progress at all
+        (0.999, 10, 1e-3, True),
+        (0.0, 10, 1e-3, False),  # converged
+        (0.1, 9, 1e-5, False),  # needs exactly 45 = 1.5 x 30 at its rate: not past the limit
+        (0.1, 9, 1e-6, True),  # 54
+    ],
+)
+def test_hopeless_is_a_projection_past_one_and_a_half_times_the_limit(
+    residual, iterations, rtol, hopeless
+):
+    assert _hopeless(residual, iterations, rtol) is hopeless
