@@ -145,7 +145,7 @@ def _case(kind: str, folder: Path, grid=(48, 24)) -> dict:
     }
 
 
-@pytest.mark.parametrize("kind", ["torso", "scan"])
+@pytest.mark.parametrize("kind", ["torso", pytest.param("scan", marks=pytest.mark.slow)])
 def test_cholespy_reports_the_garment_superlu_does(tmp_path, kind):
     """The acceptance of issue 41 at CI size: cholespy (the default install's Cholesky, auto's
     choice on the tension field without the cholmod extra) reports every quantity of result.nc

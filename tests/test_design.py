@@ -266,6 +266,7 @@ def _rows(path: Path) -> list[dict[str, str]]:
         return list(csv.DictReader(line for line in handle if not line.startswith("#")))
 
 
+@pytest.mark.slow  # a 96 x 48 torso design (16 s; the in-process cylinder design is fast)
 def test_the_torso_profile_is_met_after_confirmation_in_eight_equilibria(tmp_path):
     done = _run_design(tmp_path, [96, 48], ["hip=15", "waist=20", "underbust=18", "bust=15"])
     assert done.returncode == 0, done.stderr[-2000:]

@@ -180,6 +180,10 @@ def test_result_nc_s_fields_are_their_definitions_from_positions_and_curves(cone
     strain = np.linalg.norm(xyz[b] - xyz[a], axis=1) / rest - 1
     np.testing.assert_allclose(ds["spring_strain"].values, strain, atol=1e-12)
     np.testing.assert_array_equal(ds["spring_slack"].values, (strain <= 1e-9).astype(np.int8))
+    # the threshold the file states is the one the flags were computed with
+    from cloth.files.result import SLACK_STRAIN
+
+    assert "strain <= 1e-9" in ds["spring_slack"].attrs["long_name"] and SLACK_STRAIN == 1e-9
     thickness = float(ds["thickness"])
     for name, springs in (("weft", weft), ("warp", warp)):
         stress = _stress(ds, name, strain[springs])
@@ -391,7 +395,11 @@ def test_every_default_is_the_schema_s_the_case_s_and_the_one_docs_config_states
         kind: validate_case({"material": "powernet", "body": body, "garment": garment})
         for kind, body in bodies.items()
     }
+    from cloth.case.reading import Reading
+
     for (file, key), value in stated.items():
+        if key.startswith("girth_reading."):  # the library's own default too
+            assert getattr(Reading(), key.split(".")[1]) == value, key
         if file != "case.yaml" or key == "contact.friction":
             continue  # the config's keys are the schema's (above); friction: no contact block
         parts = key.split(".")
@@ -428,11 +436,11 @@ def test_the_provenance_names_the_code_s_revision_from_any_working_folder(tmp_pa
     git = shutil.which("git")
     if git is None:
         pytest.skip("git is not installed")
+    package = inventory.ROOT / "cloth"
     here = subprocess.run(
-        [git, "rev-parse", "--short", "HEAD"], cwd=inventory.ROOT, capture_output=True, text=True
+        [git, "rev-parse", "--short", "HEAD"], cwd=package, capture_output=True, text=True
     ).stdout.strip()
-    if not here:
-        pytest.skip("the code is not in a git checkout")
+    here = here or "unknown"  # the code outside a checkout (an installed copy) says so
     other = tmp_path / "other"
     other.mkdir()
     for command in (

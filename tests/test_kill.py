@@ -54,8 +54,13 @@ STAGES = {
 #: Where a run is killed: as each stage starts, and as each kind of file it writes is renamed
 #: into place (a file written without `cloth.io.atomic_output` is never renamed, so the child
 #: is not killed and the test fails: the kill point proves the write is atomic).
-POINTS = [("stage", function, written) for function, written in STAGES.values()] + [
-    ("file", name, name)
+#: The stage points resume a run killed as a stage starts (make test-slow: 40 s); the file
+#: points prove each kind of file written atomically (make test).
+POINTS = [
+    pytest.param("stage", function, written, marks=pytest.mark.slow, id=function)
+    for function, written in STAGES.values()
+] + [
+    pytest.param("file", name, name, id=name)
     for name in (
         "initial.nc",
         "relaxed.nc",
@@ -88,7 +93,7 @@ def _published(folder: Path) -> list[Path]:
     return [p for p in folder.rglob("*") if p.is_file() and not p.name.startswith(".")]
 
 
-@pytest.mark.parametrize(("kind", "name", "written"), POINTS, ids=[p[1] for p in POINTS])
+@pytest.mark.parametrize(("kind", "name", "written"), POINTS)
 def test_a_run_killed_in_any_stage_leaves_whole_files_and_resumes(tmp_path, kind, name, written):
     if name == "garment.html":
         pytest.importorskip("plotly")

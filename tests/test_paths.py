@@ -47,8 +47,12 @@ def _torso(folder: Path, band: tuple[float, float], lengthwise: float, solver: d
     return load_result(folder, case)
 
 
-@pytest.mark.parametrize("lengthwise", [0.0, 0.10])
-@pytest.mark.parametrize("band", [(0.86, 1.22), (0.80, 1.25)], ids=["hip-bust", "wide"])
+@pytest.mark.parametrize("lengthwise", [0.0, pytest.param(0.10, marks=pytest.mark.slow)])
+@pytest.mark.parametrize(
+    "band",
+    [(0.86, 1.22), pytest.param((0.80, 1.25), marks=pytest.mark.slow)],  # slow: make test-slow
+    ids=["hip-bust", "wide"],
+)
 def test_plain_newton_and_the_fast_path_report_the_same_garment_at_ci_size(
     tmp_path, band, lengthwise
 ):

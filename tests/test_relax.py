@@ -152,6 +152,7 @@ def test_newton_and_explicit_agree():
     assert np.max(np.abs(explicit.final.x - newton.final.x)) <= 100 * r * typical / stiffness
 
 
+@pytest.mark.slow  # 300 explicit iterations (7 s; make test-slow)
 def test_explicit_uses_the_papers_default_of_300_iterations():
     assert Settings(method="explicit").max_iterations == 300
     state = tube(

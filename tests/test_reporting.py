@@ -382,12 +382,13 @@ def _kernel_share(
 
 
 @pytest.mark.parametrize("kernel", sorted(KERNELS))
-@pytest.mark.parametrize("height", [0.21, 0.245, 0.29])
+@pytest.mark.parametrize("height", [0.155, 0.21, 0.245, 0.29])
 def test_band_values_weigh_each_node_by_the_kernel_over_its_span_of_height(height, kernel):
     """The band mean is sum f_i w_i / sum a_i w_i with f_i = p_i a_i and w_i the kernel
     (``smooth``, the biweight, and ``hat``) integrated over the node's span (half-way to its
     warp neighbours: 0.1-0.15, 0.15-0.25, 0.25-0.3 m) over the span's length, here by scipy's
-    quad: 0.245 m straddles two rows' spans, 0.29 m is clipped at the garment's top edge."""
+    quad: 0.245 m straddles two rows' spans, 0.155 m the first row's (2 m2 a node) and the
+    second's (1 m2), 0.29 m is clipped at the garment's top edge."""
     from cloth.case.reading import Reading
 
     grid = SimpleNamespace(m=3, n=4)

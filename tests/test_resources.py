@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import sys
 
+import pytest
 import yaml
 
 from cloth.pipeline.config import validate_case
@@ -16,6 +17,7 @@ def peak_mib(*args: str) -> float:
     return measure_stage(sys.executable, *args)[1]
 
 
+@pytest.mark.slow  # jobs measured (8 s; make test-slow)
 def test_a_job_asks_for_the_memory_its_stage_uses(tmp_path):
     """Predeform, relax and aggregate of a 96 x 48 case on the torso, each its own process as
     a Snakemake job is: each peak is under what the job asks (measured 245-270 MiB against

@@ -223,6 +223,7 @@ def test_plotted_arrays_are_the_datasets(cylinder, tmp_path, monkeypatch):
     np.testing.assert_array_equal(seen[2], ds["pressure_mmHg"].values)
 
 
+@pytest.mark.slow  # a scan relaxed (8 s; make test-slow)
 def test_landmarks_of_a_scan_come_from_the_girth_profile(tmp_path):
     from cloth.bodies.torso import chart_size, torso_mesh
     from cloth.results.landmarks import girth_extrema

@@ -123,7 +123,7 @@ def smooth_torso():
 # the behaviour in the fast suite
 @pytest.mark.parametrize(
     ("around", "rings"),
-    [pytest.param(128, 120, marks=pytest.mark.slow), (32, 30)],
+    [pytest.param(128, 120, marks=pytest.mark.slow), pytest.param(32, 30, marks=pytest.mark.slow)],
     ids=["default", "coarse"],
 )
 def test_torso_mesh_converges_and_presses_like_the_smooth_torso(
@@ -151,6 +151,7 @@ def test_torso_mesh_converges_and_presses_like_the_smooth_torso(
     assert mesh["bust"] == pytest.approx(smooth["bust"], rel=0.05)
 
 
+@pytest.mark.slow  # a scan relaxed (8 s; make test-slow)
 def test_garment_wraps_the_largest_loop_and_says_so(tmp_path, caplog):
     """A torso with an arm beside it: every row meets two loops; without loop_point the garment
     wraps the torso's (the larger) and the log says so; with it, the loop given."""
@@ -256,6 +257,7 @@ def test_a_full_body_scan_in_mm_and_y_up_relaxes_as_given(tmp_path, monkeypatch)
     assert all(float(r["pressure_mean_Pa"]) > 0 for r in rows)
 
 
+@pytest.mark.slow  # a full-body fit (7 s; make test-slow)
 def test_body_check_of_a_full_body_fits_and_draws_its_region_only(tmp_path, monkeypatch, capsys):
     """`cloth body check --region` on the full body: the report's fit is the trunk's between
     the heights (its grid a fraction of the body's), and the curvature figure draws the fitted

@@ -103,6 +103,7 @@ def test_sphere_and_cylinder_meshes_converge_to_the_closed_form():
     np.testing.assert_allclose(k2, 0.0, atol=0.02 / R)
 
 
+@pytest.mark.slow  # a fitted mesh surface relaxed (30 s; make test-slow)
 def test_laplace_on_a_meshed_cylinder_within_one_percent(tmp_path):
     """64 segments, r = 0.1 m, reduction 0.2: p = T / r at every interior contact node within
     1 %, where the faceted contact puts the pressure on the facets' edges (a node on a flat
@@ -124,6 +125,7 @@ def test_laplace_on_a_meshed_cylinder_within_one_percent(tmp_path):
             assert np.abs(ratio - 1).max() > 0.2
 
 
+@pytest.mark.slow  # three fits (10 s; make test-slow)
 def test_fit_is_cached_by_mesh_and_options_and_round_trips(tmp_path):
     vertices, faces = capped_cylinder(R, 0.3, 48)
     mesh = MeshBody(vertices, faces)

@@ -82,6 +82,7 @@ def test_a_tube_on_soft_tissue_sinks_to_the_scalar_solution():
     assert p.mean() < 0.97 * rigid.mean()
 
 
+@pytest.mark.slow  # two relaxations (10 s; make test-slow)
 def test_a_stiff_layer_reproduces_the_rigid_answer():
     rigid = tube()
     p_rigid = pressure(rigid, solve(rigid))

@@ -319,6 +319,7 @@ def test_a_killed_run_leaves_no_corrupt_output_and_resumes(tmp_path):
     assert (where / "results-ci/design_confirmed.csv").exists()
 
 
+@pytest.mark.slow  # a pipeline on a mesh body (20 s; make test-slow)
 def test_mesh_body_pipeline_fits_its_surface_once(tmp_path):
     """A case on a mesh body: rule body_surface fits the smooth surface once (the case's body is
     the configured body "tube"), the case and the check read it, the result records the
