@@ -117,8 +117,36 @@ def test_sweep_nc_is_cf_every_variable_described_and_the_flags_typed(swept):
     np.testing.assert_array_equal(ds["converged"].attrs["flag_values"], [0, 1])
     assert ds["converged"].attrs["flag_values"].dtype == np.int8
     assert ds["worn"].attrs["flag_values"].dtype == np.int8
-    for name in ("material", "body", "reduction", "landmark"):
-        assert ds[name].attrs["long_name"]
+    names = {
+        "material": "fabric",
+        "body": "body",
+        "reduction": "pattern reduction",
+        "landmark": "girth line",
+        "converged": "relaxation converged",
+    }
+    for name, long_name in names.items():
+        assert ds[name].attrs["long_name"] == long_name
+    assert ds["converged"].attrs["units"] == "1"
+    assert ds.attrs["title"] == "cloth sweep"
+    assert ds.attrs["cases"] == json.dumps(index, sort_keys=True)
+
+
+def test_a_lengthwise_variant_keeps_its_values_as_numbers(tmp_path):
+    """A variant key other than worn is a float coordinate (0.05, not truncated to 0)."""
+    index = [
+        {
+            "case": f"c{k}",
+            "material": "m",
+            "body": "b",
+            "reduction": 0.1,
+            "lengthwise_reduction": lw,
+        }
+        for k, lw in enumerate((0.0, 0.05))
+    ]
+    paths = [_result(tmp_path / f"c{k}.nc", [1000.0 + k], lines=["w"]) for k in range(2)]
+    ds = collect(index, paths)
+    assert ds["lengthwise_reduction"].values.tolist() == [0.0, 0.05]
+    assert ds["lengthwise_reduction"].dtype == np.float64
 
 
 def test_a_result_without_its_mean_or_convergence_flag(tmp_path):
