@@ -355,3 +355,64 @@ def test_every_line_of_the_print_is_exact_and_every_outline_open(tmp_path, monke
     assert MARGIN_MM <= y and y + 100.0 <= height_mm - MARGIN_MM
     cut = tiled[0].axes[0].patches[0]
     assert cut.get_edgecolor() == (0.0, 0.0, 0.0, 1.0) and cut.get_linestyle() == "solid"
+
+
+def test_the_cover_s_tile_map_is_the_tiles_scaled_and_the_pdf_names_its_maker(
+    tmp_path, monkeypatch, caplog
+):
+    """The cover's map: the piece's cut line and every tile's window scaled by one factor from
+    the first tile's corner, each tile's name at its window's centre, all inside the printable
+    area; the tiles cover the cut line with 5 mm to spare; the log line and the PDF's creator."""
+    import logging
+
+    from cloth.files.printout import tiles
+
+    caplog.set_level(logging.INFO, logger="cloth.files.printout")
+    piece = piece_of(_wide_pattern(), "M", "power net", 6.0)
+    cover, tiled = _printed(tmp_path, monkeypatch, piece)
+    (ax,) = cover.axes
+    cut = piece.cut
+    bounds = (
+        cut[:, 0].min() - CLEARANCE_MM,
+        cut[:, 1].min() - CLEARANCE_MM,
+        cut[:, 0].max() + CLEARANCE_MM,
+        cut[:, 1].max() + CLEARANCE_MM,
+    )
+    portrait, landscape = tiles(bounds, "A4"), tiles(bounds, "A4", landscape=True)
+    layout = landscape if len(landscape) < len(portrait) else portrait
+    assert len(tiled) == len(layout)
+    union = [min(w[0] for *_, w in layout), min(w[1] for *_, w in layout)]
+    union += [max(w[2] for *_, w in layout), max(w[3] for *_, w in layout)]
+    assert union[0] <= bounds[0] and union[1] <= bounds[1]
+    assert union[2] >= bounds[2] and union[3] >= bounds[3]
+    outline, *rectangles = [p for p in ax.patches if p.__class__.__name__ != "Rectangle"] + [
+        p for p in ax.patches[1:] if p.__class__.__name__ == "Rectangle"
+    ]
+    drawn = outline.get_xy()[: len(cut)]
+    # one scale and one offset map the cut line onto its drawing
+    scale = np.ptp(drawn[:, 0]) / np.ptp(cut[:, 0])
+    assert np.ptp(drawn[:, 1]) / np.ptp(cut[:, 1]) == pytest.approx(scale)
+    origin = drawn[0] - scale * (cut[0] - np.array(union[:2]))
+    np.testing.assert_allclose(drawn, origin + scale * (cut - np.array(union[:2])), atol=1e-9)
+    assert scale == pytest.approx(min(150.0 / (union[2] - union[0]), 90.0 / (union[3] - union[1])))
+    width_mm, height_mm = (v * 25.4 for v in cover.get_size_inches())
+    assert len(rectangles) == len(layout)
+    names = {t.get_text(): t.get_position() for t in ax.texts if len(t.get_text()) == 2}
+    for (row, column, (a, b, c, d)), rectangle in zip(layout, rectangles, strict=True):
+        np.testing.assert_allclose(
+            rectangle.get_xy(), origin + scale * (np.array([a, b]) - union[:2]), atol=1e-9
+        )
+        assert rectangle.get_width() == pytest.approx(scale * (c - a))
+        assert rectangle.get_height() == pytest.approx(scale * (d - b))
+        assert not rectangle.get_fill()
+        name = f"{chr(ord('A') + row)}{column + 1}"
+        centre = origin + scale * (np.array([(a + c) / 2, (b + d) / 2]) - union[:2])
+        np.testing.assert_allclose(names[name], centre, atol=1e-9)
+        x, y = rectangle.get_xy()
+        assert MARGIN_MM <= x and x + rectangle.get_width() <= width_mm - MARGIN_MM
+        assert MARGIN_MM <= y and y + rectangle.get_height() <= height_mm - MARGIN_MM
+    title = next(t for t in ax.texts if t.get_text() == "tiles (overlap dotted)")
+    assert title.get_position()[1] == pytest.approx(origin[1] + scale * (union[3] - union[1]) + 3.0)
+    orientation = " landscape" if layout is landscape else ""
+    assert f"{len(layout)} tile(s) on A4{orientation} at 1:1" in caplog.text
+    assert b"/Creator (cloth)" in (tmp_path / "p.pdf").read_bytes()
