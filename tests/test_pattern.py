@@ -352,3 +352,20 @@ def test_a_shifted_pattern_s_girth_lines_are_where_its_rows_were_cut(tmp_path):
     unshifted = pattern_of(result.assign(cut_height=("row", cut)), "tube")
     assert [name for name, _ in unshifted.lines] == ["low", "mid"]
     assert unshifted.lines[0][1] == pytest.approx(100.0)
+
+
+def test_a_result_without_cut_heights_places_its_lines_on_its_rows_heights():
+    """A result from before cut heights: the rows' mean heights stand for them, unshifted."""
+    result = xr.Dataset(
+        {
+            "rest_circumference": ("row", [0.70, 0.65, 0.72]),
+            "pattern_height": ("row", [0.0, 0.1, 0.2]),
+            "z": (("row", "col"), [[0.80, 0.80], [0.90, 0.90], [1.00, 1.00]]),
+            "landmark_height": ("landmark", [0.85]),
+        },
+        coords={"landmark": ["low"]},
+    )
+    pattern = pattern_of(result, "two-panel")
+    assert pattern.lines == (("low", pytest.approx(50.0)),)
+    np.testing.assert_allclose(pattern.cut_height, [0.8, 0.9, 1.0])
+    np.testing.assert_allclose(pattern.width, [350.0, 325.0, 360.0])  # half the girth

@@ -490,3 +490,27 @@ def test_a_girth_line_lies_between_its_rows_or_on_an_edge_row(height, expected):
         assert line is None
     else:
         assert line[:2] == expected[:2] and line[2] == pytest.approx(expected[2], abs=1e-12)
+
+
+@pytest.mark.parametrize(
+    ("mmhg", "name"),
+    [(18.0, "I"), (21.0, "I"), (22.0, "-"), (23.0, "II"), (32.0, "II"), (49.0, "IV"), (17.9, "-")],
+)
+def test_a_class_edge_belongs_to_its_class(mmhg, name):
+    """RAL-GZ 387/1's limits, typed here: I 18-21, II 23-32, III 34-46, IV from 49 mmHg; both
+    limits inside their class, the gaps between classes in none."""
+    from cloth.results.pressure import ral_class
+
+    assert ral_class(mmhg) == name
+
+
+@pytest.mark.parametrize(
+    ("kpa", "name"),
+    [(0.4, "I"), (1.3, "II"), (1.2999, "I"), (2.0, "III"), (3.3, "IV"), (0.39, "-")],
+)
+def test_a_comfort_group_starts_at_its_lower_limit(kpa, name):
+    """Comfort groups, kPa (typed here): I 0.4-1.3, II 1.3-2.0, III 2.0-3.3, IV from 3.3; each
+    includes its lower limit only, and below group I there is none ('-')."""
+    from cloth.results.pressure import comfort_group
+
+    assert comfort_group(kpa) == name

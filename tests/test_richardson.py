@@ -225,3 +225,13 @@ def test_the_grid_spacing_is_the_side_of_a_square_cell_of_the_same_area():
     values, grids = list(_power_law(2.0)), [(48, 24), (24, 12)]
     assert estimate_levels(values, grids).code == 1  # three values, two grids
     assert estimate_levels(values[:2], [*grids, (12, 6)]).code == 1
+
+
+def test_the_sign_and_size_rules_at_exact_differences():
+    """A finest difference of exactly 1 is a difference (order log2 10 from 1 and 10); a wobble
+    that does not shrink keeps its value; a wobble exactly half the coarser difference counts."""
+    assert richardson(101.0, 100.0, 90.0).code == 0
+    stuck = richardson(100.0, 110.0, 100.0)
+    assert stuck.code == 4 and stuck.reported == 100.0
+    half = richardson(100.0, 100.5, 99.5)  # near -0.5, far 1.0
+    assert half.code == 6 and half.uncertainty == pytest.approx(1.5)

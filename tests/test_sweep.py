@@ -408,3 +408,28 @@ def test_a_flat_sweep_gives_an_unbounded_interval_and_unknown_lines_name_the_con
     )
     assert low[0]["message"].endswith("widen the reductions or choose another fabric")
     assert low[0]["status"] == "out_of_range" and low[0]["slope_Pa"] != low[0]["slope_Pa"]
+
+
+def test_confirm_and_the_header_with_one_row(tmp_path):
+    """A confirmation without its mean is refused naming it; one without a convergence flag
+    counts as not converged; the header of a single variant row names its key."""
+    from cloth.pipeline.sweep import design_header
+
+    row = {"material": "m", "body": "b", "landmark": "w", "status": "ok", "target_Pa": "1000"}
+    assert design_header([{**row, "worn": 1}])[:3] == ["material", "body", "worn"]
+    bare = tmp_path / "bare.nc"
+    xr.Dataset(
+        {"pressure_max": ("landmark", [1.0])},
+        coords={"landmark": ["w"]},
+        attrs={"cloth_kind": "result"},
+    ).to_netcdf(bare)
+    with pytest.raises(InputError, match="pressure_mean"):
+        confirm([row], [bare])
+    flagless = tmp_path / "flagless.nc"
+    xr.Dataset(
+        {"pressure_mean": ("landmark", [900.0])},
+        coords={"landmark": ["w"]},
+        attrs={"cloth_kind": "result"},
+    ).to_netcdf(flagless)
+    (record,) = confirm([row], [flagless])
+    assert record["converged"] == 0 and math.isnan(record["confirmed_error_Pa"])
