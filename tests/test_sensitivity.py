@@ -71,7 +71,9 @@ def _equilibrium(body: str, edges: str):
 
 
 @pytest.mark.parametrize("edges", ["sliding", "fixed"])
-@pytest.mark.parametrize("body", ["cylinder", "cone", "torso"])
+@pytest.mark.parametrize(
+    "body", ["cylinder", "cone", pytest.param("torso", marks=pytest.mark.slow)]
+)
 def test_adjoint_equals_central_differences(body, edges):
     """Every line's row of the Jacobian within 1e-5 of its largest entry (measured: 1e-10 on
     the cylinder and cone, 1e-8 and 6e-7 on the torso); the means are the landmarks' band

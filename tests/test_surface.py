@@ -139,6 +139,7 @@ def test_fit_is_cached_by_mesh_and_options_and_round_trips(tmp_path):
     assert other.key != fit.key and elsewhere != path and other.smoothing == 0.012
 
 
+@pytest.mark.slow  # a fit of a noisy mesh (6 s; make test-slow)
 def test_noise_is_smoothed_not_amplified():
     """1 mm of vertex noise on a 64-segment cylinder (vertices 10 mm apart): around a ring the
     fitted surface's radius varies by less than half the noise and sits within half of it of
@@ -196,6 +197,7 @@ def test_body_fit_writes_its_output_when_the_cache_already_holds_the_fit(tmp_pat
     assert second.is_file() and read_surface(second).key == read_surface(first).key
 
 
+@pytest.mark.slow  # a fit and its figure (5 s; make test-slow)
 def test_body_check_reports_the_deviation_and_draws_the_curvature(tmp_path, capsys):
     path = write_obj(tmp_path / "cyl.obj", *capped_cylinder(R, 0.3, 48))
     figure = tmp_path / "curvature.png"

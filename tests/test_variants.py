@@ -74,6 +74,7 @@ def test_variant_tags_and_labels():
     ]
 
 
+@pytest.mark.slow  # four relaxations (7 s); test_sweep checks the stacking in process
 def test_sweep_nc_gains_a_dimension_per_varied_key_and_csv_sets_worn_beside_new(tmp_path):
     block = {
         "material": "powernet",
