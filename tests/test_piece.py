@@ -416,3 +416,66 @@ def test_the_cover_s_tile_map_is_the_tiles_scaled_and_the_pdf_names_its_maker(
     orientation = " landscape" if layout is landscape else ""
     assert f"{len(layout)} tile(s) on A4{orientation} at 1:1" in caplog.text
     assert b"/Creator (cloth)" in (tmp_path / "p.pdf").read_bytes()
+
+
+def test_each_tile_s_overlap_bands_and_crosses_lie_where_its_neighbours_are(tmp_path, monkeypatch):
+    """On every tile, towards each neighbour only: the band's inner edge dotted 15 mm inside
+    the window's edge, and three crosses (arms 4 mm) on the band's middle line, 15 mm from the
+    window's ends and at its middle."""
+    piece = piece_of(_wide_pattern(), "M", "power net", 6.0)
+    _, tiled = _printed(tmp_path, monkeypatch, piece)
+    names = {}
+    for fig in tiled:
+        name = fig.texts[0].get_text().split("tile ")[1].split(" ")[0]
+        names[name] = fig
+    for name, fig in names.items():
+        (ax,) = fig.axes
+        x0, x1 = ax.get_xlim()
+        y0, y1 = ax.get_ylim()
+        row, column = name[0], int(name[1:])
+        neighbours = {
+            "left": f"{row}{column - 1}" in names,
+            "right": f"{row}{column + 1}" in names,
+            "below": f"{chr(ord(row) - 1)}{column}" in names,
+            "above": f"{chr(ord(row) + 1)}{column}" in names,
+        }
+        dotted = {
+            (tuple(np.round(ln.get_xdata(), 6)), tuple(np.round(ln.get_ydata(), 6)))
+            for ln in ax.lines
+            if ln.get_linestyle() == ":"
+        }
+        expected_edges = set()
+        expected_crosses = set()
+        ys = (y0 + OVERLAP_MM, 0.5 * (y0 + y1), y1 - OVERLAP_MM)
+        xs = (x0 + OVERLAP_MM, 0.5 * (x0 + x1), x1 - OVERLAP_MM)
+        for side, edge, middle in (
+            ("left", x0 + OVERLAP_MM, x0 + 7.5),
+            ("right", x1 - OVERLAP_MM, x1 - 7.5),
+        ):
+            if neighbours[side]:
+                expected_edges.add(((round(edge, 6),) * 2, (round(y0, 6), round(y1, 6))))
+                expected_crosses |= {(round(middle, 6), round(y, 6)) for y in ys}
+        for side, edge, middle in (
+            ("below", y0 + OVERLAP_MM, y0 + 7.5),
+            ("above", y1 - OVERLAP_MM, y1 - 7.5),
+        ):
+            if neighbours[side]:
+                expected_edges.add(((round(x0, 6), round(x1, 6)), (round(edge, 6),) * 2))
+                expected_crosses |= {(round(x, 6), round(middle, 6)) for x in xs}
+        assert dotted == expected_edges, name
+        arms = [
+            ln
+            for ln in ax.lines
+            if ln.get_linestyle() == "-"
+            and ln.get_color() == "black"
+            and len(ln.get_xdata()) == 2
+            and (np.ptp(ln.get_xdata()) == 8.0 or np.ptp(ln.get_ydata()) == 8.0)
+        ]
+        centres = {
+            (round(float(np.mean(ln.get_xdata())), 6), round(float(np.mean(ln.get_ydata())), 6))
+            for ln in arms
+        }
+        assert centres == expected_crosses, name
+        for ln in arms:  # one horizontal and one vertical arm through each centre
+            assert np.ptp(ln.get_xdata()) == 0.0 or np.ptp(ln.get_ydata()) == 0.0
+        assert len(arms) == 2 * len(expected_crosses)
