@@ -11,10 +11,8 @@ from __future__ import annotations
 
 import csv
 import itertools
-import re
 import subprocess
 import sys
-import zlib
 from pathlib import Path
 
 import numpy as np
@@ -24,6 +22,7 @@ import yaml
 
 from cloth.files.astm import LAYERS, distance_to, read_nest
 from cloth.files.piece import NOTCH_MM
+from tests.pdf import pdf_pages, squares
 
 ezdxf = pytest.importorskip("ezdxf")
 
@@ -226,32 +225,6 @@ def test_widths_at_the_girth_lines_are_the_design_s_and_the_allowance_lies_outsi
             assert min(abs(start[1] - y) for y in heights) < 1e-9
 
 
-def _pdf_pages(path: Path) -> tuple[list[list[float]], list[bytes]]:
-    """The PDF's page boxes (pt) and its content streams, decompressed."""
-    data = path.read_bytes()
-    boxes = [
-        [float(v) for v in m.split()] for m in re.findall(rb"/MediaBox \[ ?([^\]]*?) ?\]", data)
-    ]
-    streams = []
-    for raw in re.findall(rb"stream\r?\n(.*?)\r?\nendstream", data, re.S):
-        try:
-            streams.append(zlib.decompress(raw))
-        except zlib.error:
-            streams.append(raw)
-    return boxes, streams
-
-
-def _squares(stream: bytes) -> list[float]:
-    """Sides (pt) of the closed four-corner axis-aligned paths drawn in ``stream``."""
-    sides = []
-    for path in re.findall(rb"((?:[-\d.]+ [-\d.]+ [ml]\s+){5})h", stream):
-        points = np.array([[float(v) for v in p.split()[:2]] for p in path.strip().splitlines()])
-        w, h = np.ptp(points[:, 0]), np.ptp(points[:, 1])
-        if np.allclose(points[0], points[-1]) and abs(w - h) < 1e-6:
-            sides.append(float(w))
-    return sides
-
-
 @pytest.mark.parametrize(("paper", "box"), [("A4", (595.276, 841.890)), ("letter", (612, 792))])
 def test_the_check_square_measures_100_mm_and_a_wide_piece_tiles(torso, tmp_path, paper, box):
     done = _cloth(
@@ -265,13 +238,13 @@ def test_the_check_square_measures_100_mm_and_a_wide_piece_tiles(torso, tmp_path
         str(tmp_path / "pattern.csv"),
     )
     assert done.returncode == 0, done.stderr
-    boxes, streams = _pdf_pages(tmp_path / "pattern.pdf")
+    boxes, streams = pdf_pages(tmp_path / "pattern.pdf")
     assert boxes[0][2:] == pytest.approx(box, abs=1e-2)  # the cover: portrait
     turned = tuple(reversed(box))
     assert all(p[2:] == pytest.approx(box, abs=1e-2) for p in boxes[1:]) or all(
         p[2:] == pytest.approx(turned, abs=1e-2) for p in boxes[1:]
     )
-    sides = [side for stream in streams for side in _squares(stream)]
+    sides = [side for stream in streams for side in squares(stream)]
     assert any(abs(side - 100.0 * PT_PER_MM) < 0.1 * PT_PER_MM for side in sides), sides
     # the panel is wider than the printable width: it tiles, one page per tile after the
     # cover, portrait or landscape, whichever takes fewer

@@ -17,6 +17,7 @@ from cloth.files.astm import distance_to
 from cloth.files.pattern import Pattern
 from cloth.files.piece import crossings, offset, piece_of
 from cloth.files.printout import CLEARANCE_MM, MARGIN_MM, OVERLAP_MM, PAPERS, tiles, write_pdf
+from tests.pdf import pdf_pages, squares
 
 
 def test_a_rectangle_grows_by_the_allowance_on_every_side():
@@ -134,6 +135,34 @@ def test_a_piece_is_printed_on_the_orientation_with_fewer_tiles(tmp_path, width,
     assert set(sizes[1:]) == pages
 
 
+def _printed(tmp_path, monkeypatch, piece, paper="A4"):
+    """The figures `write_pdf` draws for ``piece``: the cover, then the tiles."""
+    import cloth.files.printout as printout
+
+    pages = []
+    for name in ("_cover", "_tile"):
+        original = getattr(printout, name)
+        monkeypatch.setattr(
+            printout, name, lambda *a, _f=original, **k: pages.append(_f(*a, **k)) or pages[-1]
+        )
+    write_pdf(piece, tmp_path / "p.pdf", paper)
+    monkeypatch.undo()
+    return pages[0], pages[1:]
+
+
+def _wide_pattern(lines=(("waist", 100.0), ("hip", 300.0))) -> Pattern:
+    height = np.linspace(0.0, 420.0, 8)
+    return Pattern(
+        height=height,
+        width=np.full(8, 600.0),
+        circumference=np.full(8, 1200.0),
+        cut_height=1e-3 * height,
+        reduction=None,
+        lines=lines,
+        cut="two-panel",
+    )
+
+
 def test_a_tiled_print_is_at_one_to_one_and_its_tiles_meet_at_shared_crosses(tmp_path, monkeypatch):
     """A piece 600 x 420 mm with two girth lines on A4: every page's figure read back. The
     cover's check square is 100 mm (283.46 pt in the PDF), its text says how many pages follow
@@ -141,48 +170,13 @@ def test_a_tiled_print_is_at_one_to_one_and_its_tiles_meet_at_shared_crosses(tmp
     printed mm per mm, draws the cut line, the sew line, the notches and the girth lines of the
     piece; neighbouring windows overlap by 15 mm, and the crosses in a shared band sit at the
     same places of the piece on both tiles."""
-    import zlib
-
-    import cloth.files.printout as printout
-
-    height = np.linspace(0.0, 420.0, 8)
-    pattern = Pattern(
-        height=height,
-        width=np.full(8, 600.0),
-        circumference=np.full(8, 1200.0),
-        cut_height=1e-3 * height,
-        reduction=None,
-        lines=(("waist", 100.0), ("hip", 300.0)),
-        cut="two-panel",
-    )
-    piece = piece_of(pattern, "M", "test")
-    pages = []
-    for name in ("_cover", "_tile"):
-        original = getattr(printout, name)
-        monkeypatch.setattr(
-            printout, name, lambda *a, _f=original, **k: pages.append(_f(*a, **k)) or pages[-1]
-        )
-    path = write_pdf(piece, tmp_path / "p.pdf", "A4")
-    cover, tiled = pages[0], pages[1:]
+    piece = piece_of(_wide_pattern(), "M", "test")
+    cover, tiled = _printed(tmp_path, monkeypatch, piece)
     assert len(tiled) > 1  # the piece does not fit one page
-    data = path.read_bytes()
-    assert len(re.findall(rb"/MediaBox", data)) == 1 + len(tiled)
-    streams = []
-    for raw in re.findall(rb"stream\r?\n(.*?)\r?\nendstream", data, re.S):
-        try:
-            streams.append(zlib.decompress(raw))
-        except zlib.error:
-            streams.append(raw)
+    boxes, streams = pdf_pages(tmp_path / "p.pdf")
+    assert len(boxes) == 1 + len(tiled)
     square = 100.0 / 25.4 * 72  # pt
-    sides = [
-        float(np.ptp(points[:, 0]))
-        for stream in streams
-        for path_ in re.findall(rb"((?:[-\d.]+ [-\d.]+ [ml]\s+){5})h", stream)
-        for points in [
-            np.array([[float(v) for v in p.split()[:2]] for p in path_.strip().splitlines()])
-        ]
-        if abs(np.ptp(points[:, 0]) - np.ptp(points[:, 1])) < 1e-3
-    ]
+    sides = [side for stream in streams for side in squares(stream)]
     assert any(abs(side - square) < 1e-3 for side in sides), sides
     texts = [t.get_text() for t in cover.axes[0].texts]
     assert f"Paper: A4; {len(tiled)} page(s) after this one, portrait" in texts or (
@@ -235,34 +229,6 @@ def test_a_tiled_print_is_at_one_to_one_and_its_tiles_meet_at_shared_crosses(tmp
                 middle = round(0.5 * (wb[1] + wa[3]), 6)
                 band = {p for p in crosses[a] if p[1] == middle}
                 assert len(band) == 3 and band == {p for p in crosses[b] if p[1] == middle}
-
-
-def _printed(tmp_path, monkeypatch, piece, paper="A4"):
-    """The figures `write_pdf` draws for ``piece``: the cover, then the tiles."""
-    import cloth.files.printout as printout
-
-    pages = []
-    for name in ("_cover", "_tile"):
-        original = getattr(printout, name)
-        monkeypatch.setattr(
-            printout, name, lambda *a, _f=original, **k: pages.append(_f(*a, **k)) or pages[-1]
-        )
-    write_pdf(piece, tmp_path / "p.pdf", paper)
-    monkeypatch.undo()
-    return pages[0], pages[1:]
-
-
-def _wide_pattern(lines=(("waist", 100.0), ("hip", 300.0))) -> Pattern:
-    height = np.linspace(0.0, 420.0, 8)
-    return Pattern(
-        height=height,
-        width=np.full(8, 600.0),
-        circumference=np.full(8, 1200.0),
-        cut_height=1e-3 * height,
-        reduction=None,
-        lines=lines,
-        cut="two-panel",
-    )
 
 
 def test_every_text_of_the_print_says_what_a_cutter_reads(tmp_path, monkeypatch):

@@ -262,7 +262,6 @@ def _overlaps(ax, window, below: bool, above: bool, left: bool, right: bool) -> 
         if shared:
             ax.plot([x0, x1], [edge, edge], **style)
             marks += [(x, middle) for x in (x0 + OVERLAP_MM, 0.5 * (x0 + x1), x1 - OVERLAP_MM)]
-    arm = CROSS_MM
     for x, y in marks:
-        ax.plot([x - arm, x + arm], [y, y], snap=False, **PENS["cross"])
-        ax.plot([x, x], [y - arm, y + arm], snap=False, **PENS["cross"])
+        ax.plot([x - CROSS_MM, x + CROSS_MM], [y, y], snap=False, **PENS["cross"])
+        ax.plot([x, x], [y - CROSS_MM, y + CROSS_MM], snap=False, **PENS["cross"])
