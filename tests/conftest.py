@@ -12,6 +12,10 @@ matplotlib.use("Agg")
 
 from cloth.materials.curves import Fabric, StressStrainCurve
 
+#: 1 mmHg in Pa by its definition, typed here for the tests' own expectations (not the
+#: library's constant): 13.5951 g/cm3 x 9.80665 m/s2 x 1 mm = 133.322387415 Pa.
+MMHG_BY_DEFINITION = 13.5951e3 * 9.80665 * 1e-3
+
 
 def make_fabric(thickness: float = 5.0e-4, compression: float | None = None) -> Fabric:
     """A J-shaped elastane-knit-like fabric: weft softer than warp (numbers illustrative);

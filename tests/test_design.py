@@ -34,6 +34,7 @@ from cloth.results.targets import Target
 from cloth.stages.case import initial_state
 from cloth.stages.design import MAX_SOLVES, design
 from cloth.stages.graded import confirmed_rows
+from tests.conftest import MMHG_BY_DEFINITION
 
 ROOT = Path(__file__).resolve().parents[1]
 RADIUS = 0.1
@@ -454,7 +455,7 @@ def test_a_graded_design_s_files_are_its_loop_and_its_confirmation_in_process(tm
         assert float(last[f"{line}_mmHg"]) == pytest.approx(
             float(rows[line]["designed_mmHg"]), rel=1e-5
         )
-        value = float(confirmed["pressure_mean"].sel(landmark=line)) / 133.322387415
+        value = float(confirmed["pressure_mean"].sel(landmark=line)) / MMHG_BY_DEFINITION
         assert float(rows[line]["confirmed_mmHg"]) == pytest.approx(value, rel=1e-5)
         assert abs(value - target) <= 0.5 and rows[line]["met"] == "1"
         assert float(rows[line]["target_mmHg"]) == pytest.approx(target)

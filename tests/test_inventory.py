@@ -19,10 +19,9 @@ import yaml
 from scipy.integrate import quad
 
 from tests import inventory
+from tests.conftest import MMHG_BY_DEFINITION as MMHG
 from tests.conftest import run_result
 
-#: 1 mmHg in Pa: 13.5951 g/cm3 x 9.80665 m/s2 x 1 mm (typed here, not the module's constant).
-MMHG = 13.5951e3 * 9.80665 * 1e-3
 CONE = {"cone": {"radius_bottom": 0.13, "radius_top": 0.09, "bottom": 0.0, "top": 0.5}}
 #: summary.csv's columns as result.nc's per-line variables, in the unit the header's suffix names
 #: (the factor from the variable's SI unit).

@@ -24,9 +24,8 @@ from cloth.pipeline.sweep import (
     sweep_rows,
     write_rows,
 )
+from tests.conftest import MMHG_BY_DEFINITION as MMHG
 
-#: 1 mmHg in Pa by its definition (13.5951 g/cm3 x 9.80665 m/s2 x 1 mm), typed here.
-MMHG = 13.5951e3 * 9.80665 * 1e-3
 LINES = ["waist", "hip"]
 
 

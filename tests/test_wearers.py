@@ -33,6 +33,7 @@ from cloth.files.population import read_population
 from cloth.files.wearers import DEFAULT_POPULATION, SHIPPED, shipped_wearers
 from cloth.io import sha256
 from cloth.results.pressure import MMHG
+from tests.conftest import MMHG_BY_DEFINITION
 from tests.test_avatars import tape as part_tape
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -608,10 +609,6 @@ def test_the_pipeline_runs_a_job_per_wearer_and_gathers_them(tmp_path):
             )
 
 
-#: 1 mmHg in Pa by its definition, typed here (13.5951 g/cm3 x 9.80665 m/s2 x 1 mm).
-MMHG_BY_HAND = 13.5951e3 * 9.80665 * 1e-3
-
-
 def _line_result(path: Path, means: dict[str, float], errors: dict[str, float]) -> Path:
     """A result.nc reduced to what wearers.nc reads: per girth line the mean and its error."""
     lines = list(means)
@@ -631,7 +628,7 @@ def test_every_column_of_wearers_nc_and_wearers_csv_by_hand(tmp_path):
     who gives it, the size's value and the largest stated error, in mmHg."""
     from cloth.stages.wearers import collect, write_table
 
-    mm = MMHG_BY_HAND
+    mm = MMHG_BY_DEFINITION
     means = {
         "size": {"B": 20 * mm, "C": 15 * mm},
         "centre": {"B": 22 * mm, "C": 16 * mm},
@@ -708,7 +705,7 @@ def test_every_column_of_robust_csv_by_hand():
     from cloth.stages.robust import Robust
     from cloth.stages.wearerdesign import robust_rows
 
-    mm = MMHG_BY_HAND
+    mm = MMHG_BY_DEFINITION
     result = Robust(
         knots=("B", "C"),
         values=np.array([0.21, 0.155]),

@@ -12,6 +12,7 @@ import pytest
 import xarray as xr
 import yaml
 
+from tests.conftest import MMHG_BY_DEFINITION as MMHG
 from tests.pipeline import ROOT, SNAKEMAKE, environment, from_checkout, snakemake, workspace
 
 
@@ -361,8 +362,6 @@ def test_mesh_body_pipeline_fits_its_surface_once(tmp_path):
     assert "Nothing to be done" in again.stdout + again.stderr
 
 
-#: 1 mmHg in Pa: 13.5951 g/cm3 x 9.80665 m/s2 x 1 mm (typed here, not the module's constant).
-MMHG = 13.5951e3 * 9.80665 * 1e-3
 #: sweep.csv's columns: result.nc's girth-line variable and the factor into the header's unit.
 SWEEP_COLUMNS = {
     "pressure_mean_Pa": ("pressure_mean", 1.0),
