@@ -116,7 +116,10 @@ def test_every_size_is_designed_warm_started_from_the_one_before(torso):
     ]
     for row in rows:
         assert abs(float(row["confirmed_mmHg"]) - float(row["target_mmHg"])) <= 0.5
-        assert row["met"] == "1"
+        decided = float(row["confirmed_error_mmHg"]) <= 0.5  # NaN: not decided (issue 54)
+        assert (row["met"], row["verdict"]) == (
+            ("1", "met") if decided else ("0", "grid cannot tell")
+        )
     # each size after the first starts from the designed knots of the one before it
     for before, after in itertools.pairwise(SIZES):
         designed = yaml.safe_load((torso / before / "case.yaml").read_text())

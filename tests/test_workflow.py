@@ -529,7 +529,14 @@ def test_the_graded_design_s_files_are_its_loop_and_its_confirmation(tiny_run):
         assert _close(row["confirmed_error_mmHg"], float(at["pressure_mean_error"]) / MMHG)
         assert _close(row["tolerance_mmHg"], 0.5)  # the default
         off = abs(float(at["pressure_mean"]) / MMHG - targets[line])
-        assert row["met"] == str(int(off <= 0.5))
+        error = float(at["pressure_mean_error"]) / MMHG  # NaN fails both: not met, undecided
+        verdict = "missed" if error <= 0.5 and off > 0.5 else "met" if error <= 0.5 else ""
+        assert row["verdict"] == (verdict or "grid cannot tell")
+        assert row["met"] == str(int(verdict == "met"))
+        if verdict:  # decided: no excess
+            assert float(row["error_past_tolerance_mmHg"]) == 0.0
+        else:  # by how much the error is past the tolerance, NaN where none is stated
+            assert _close(row["error_past_tolerance_mmHg"], error - 0.5)
         for knot, value in designed.items():
             assert _close(row[f"reduction_{knot}"], value)
             assert _close(last[f"reduction_{knot}"], value)

@@ -29,6 +29,7 @@ the line, the closest pressure and the bound (`InputError`, exit status 2).
 from __future__ import annotations
 
 import logging
+import math
 from pathlib import Path
 
 import numpy as np
@@ -84,7 +85,7 @@ def design_files(
     )
     log.info(
         "design: %s in %d equilibria (%d in the loop, 1 confirmation)%s",
-        "every target met" if all(row["met"] for row in rows) else "NOT every target met",
+        verdicts(rows),
         result.solves + 1,
         result.solves,
         "" if "dxf" in formats else "; no DXF (pip install 'cloth[pattern]')",
@@ -140,14 +141,71 @@ def design_one(
     return result, confirmed_rows(result, confirmed)
 
 
+#: design_confirmed.csv's ``verdict`` values (`judge_confirmed`).
+VERDICTS = ("met", "missed", "grid cannot tell")
+
+
+def judge_confirmed(miss: float, error: float, tolerance: float) -> dict[str, object]:
+    """The verdict on one confirmed line: ``miss`` the confirmed value less the target,
+    ``error`` its stated discretisation error (NaN where the confirmation states none),
+    ``tolerance`` the design's; all Pa.
+
+    ``met`` 1 only where the line is within the tolerance of its target *and* its stated error
+    is within the tolerance too (issue 54: a value whose error is larger than the tolerance
+    cannot be said to meet it). The ``verdict`` is ``met``, ``missed`` (off by more than the
+    tolerance, on a grid whose error is within it) or ``grid cannot tell`` (the stated error is
+    larger than the tolerance, or not stated); ``error_past_tolerance_mmHg`` says by how much
+    the error is too large (0 where the grid can tell, NaN where no error is stated)."""
+    decided = math.isfinite(error) and error <= tolerance
+    if not decided:
+        verdict = "grid cannot tell"
+    elif abs(miss) <= tolerance:
+        verdict = "met"
+    else:
+        verdict = "missed"
+    past = (error - tolerance) / MMHG if not decided else 0.0
+    return {
+        "met": int(verdict == "met"),
+        "verdict": verdict,
+        "error_past_tolerance_mmHg": past,
+    }
+
+
+def verdicts(rows: list[dict[str, object]]) -> str:
+    """The design's verdicts in words, for its log line: "every target met", or how many lines
+    are met, missed and undecided by the grid."""
+    if all(row["met"] for row in rows):
+        return "every target met"
+    counts = {v: sum(row["verdict"] == v for row in rows) for v in VERDICTS}
+    return "NOT every target met (" + ", ".join(f"{n} {v}" for v, n in counts.items() if n) + ")"
+
+
 def raise_unmet(
     result: Design, rows: list[dict[str, object]], tolerance: float, source: Path | str
 ) -> None:
-    """`InputError` for a design out of reach, or confirmed off its target, else nothing."""
+    """`InputError` for a design out of reach, or confirmed off its target on a grid that can
+    tell, else nothing; a warning per line the grid cannot decide (`judge_confirmed`)."""
     if result.shortfall is not None:
         raise InputError(result.shortfall, source, "targets")
-    if not all(row["met"] for row in rows):
-        worst = max(rows, key=lambda row: abs(row["confirmed_mmHg"] - row["target_mmHg"]))
+    for row in rows:
+        if row["verdict"] == "grid cannot tell":
+            past = row["error_past_tolerance_mmHg"]
+            log.warning(
+                "%s: %s: confirmed %.2f +- %.2f mmHg, target %.2f +- %.2g mmHg: the grid cannot "
+                "tell whether it is met (%s); refine the grid",
+                source,
+                row["landmark"],
+                row["confirmed_mmHg"],
+                row["confirmed_error_mmHg"],
+                row["target_mmHg"],
+                tolerance / MMHG,
+                f"its stated error is {past:.2f} mmHg past the tolerance"
+                if math.isfinite(past)
+                else "the confirmation states no error",
+            )
+    missed = [row for row in rows if row["verdict"] == "missed"]
+    if missed:
+        worst = max(missed, key=lambda row: abs(row["confirmed_mmHg"] - row["target_mmHg"]))
         raise InputError(
             f"{worst['landmark']}: confirmed at {worst['confirmed_mmHg']:.2f} mmHg from "
             f"scratch, target {worst['target_mmHg']:.2f} +- {tolerance / MMHG:.2g} mmHg; the "
@@ -197,8 +255,8 @@ def confirmed_rows(result: Design, confirmed: xr.Dataset) -> list[dict[str, obje
             "confirmed_mmHg": value / MMHG,
             "confirmed_error_mmHg": float(error[at]) / MMHG,
             "tolerance_mmHg": result.tolerance / MMHG,
-            "met": int(abs(value - result.targets[k]) <= result.tolerance),
         }
+        row.update(judge_confirmed(value - result.targets[k], float(error[at]), result.tolerance))
         if result.uniform is not None:
             row["uniform_reduction"] = result.uniform[0]
             row["uniform_mmHg"] = float(result.uniform[1][k]) / MMHG
