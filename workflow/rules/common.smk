@@ -173,7 +173,7 @@ def all_outputs():
         names += ["design_confirmed.csv"] if config.get("targets") else []
         sweep += [sweep_file(name) for name in names]
     materials = sorted(config["materials"])
-    files = ["initial.nc", "initial.png", "relaxed.nc", "result.nc", "summary.csv"]
+    files = ["initial.nc", "relaxed.nc", "result.nc", "summary.csv"]
     files += ["figures/stress_weft.png", *(["garment.html"] if VIEW else [])]
     designs = [
         design_file(name, design)

@@ -1,4 +1,5 @@
-# Stage 2: case -> initial.nc (the pattern cut and wrapped around the body) + a 3D figure.
+# Stage 2: case -> initial.nc (the pattern cut and wrapped around the body); the figures rule
+# draws it (garment_stress_initial.png), so predeform draws nothing (issue 54: 2-3 s a case).
 
 
 rule write_case:
@@ -25,12 +26,6 @@ rule predeform:
         body=body_files,
     output:
         nc=case_file("initial.nc"),
-        png=report(
-            case_file("initial.png"),
-            caption="../report/initial.rst",
-            category="Cases",
-            subcategory="{case}",
-        ),
     log:
         "logs/predeform/{case}.log",
     benchmark:
@@ -44,5 +39,4 @@ rule predeform:
     params:
         cloth_version=CLOTH_VERSION,
     shell:
-        "cloth predeform {input.case:q} -o {output.nc:q} --plot {output.png:q} "
-        "> {log:q} 2>&1"
+        "cloth predeform {input.case:q} -o {output.nc:q} > {log:q} 2>&1"
