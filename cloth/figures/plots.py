@@ -42,13 +42,23 @@ FIGURES = (
 )
 #: Rings of a closed-form body (or the smooth torso) drawn between the garment's edges.
 BODY_RINGS = 24
+#: The garment in 3D shows at most this many rows and columns of nodes (every stride-th of a
+#: finer grid): 18,432 dots of a 192 x 96 grid overlap at 150 dpi and took half its time.
+MAX_ROWS, MAX_COLUMNS = 48, 96
+
+
+#: zlib level of the PNGs written: 1 (fastest) writes files about 20 % larger than the default
+#: 6 in a tenth of the time (issue 54: the figures were a third of `make run`'s job time).
+PNG_COMPRESSION = 1
 
 
 def save_figure(fig: plt.Figure, path: str | Path) -> Path:
     """Write ``fig`` to ``path`` (format from the suffix, 150 dpi) atomically and close it."""
     path = Path(path)
+    form = path.suffix.lstrip(".") or "png"
+    options = {"pil_kwargs": {"compress_level": PNG_COMPRESSION}} if form == "png" else {}
     with atomic_output(path) as tmp:
-        fig.savefig(tmp, format=path.suffix.lstrip(".") or "png", dpi=150)
+        fig.savefig(tmp, format=form, dpi=150, **options)
     plt.close(fig)
     log.info("wrote %s", path)
     return path
@@ -154,12 +164,24 @@ def plot_garment_3d(
         vmin=float(np.nanmin(values)) if vmin is None else vmin,
         vmax=float(np.nanmax(values)) if vmax is None else vmax,
     )
-    closed = np.concatenate([pts, pts[:, :1]], axis=1)
-    for j in range(m):
-        ax.plot(*closed[j].T, color="0.3", lw=0.3)
+    # at most MAX_ROWS x MAX_COLUMNS nodes and lines are drawn: finer grids every stride-th
+    rows = slice(None, None, max(1, -(-m // MAX_ROWS)))
+    columns = slice(None, None, max(1, -(-n // MAX_COLUMNS)))
+    shown = pts[rows][:, columns]
+    closed = np.concatenate([shown, shown[:, :1]], axis=1)
+    for ring in closed:
+        ax.plot(*ring.T, color="0.3", lw=0.3)
     for i in range(0, n, max(1, n // 48)):
         ax.plot(*pts[:, i].T, color="0.3", lw=0.3)
-    ax.scatter(*x.T, c=values, cmap="viridis", norm=norm, s=4, depthshade=False)
+    coloured = np.asarray(values).reshape(m, n)[rows][:, columns]
+    ax.scatter(
+        *shown.reshape(-1, 3).T,
+        c=coloured.ravel(),
+        cmap="viridis",
+        norm=norm,
+        s=4,
+        depthshade=False,
+    )
     fig.colorbar(cm.ScalarMappable(norm=norm, cmap="viridis"), ax=ax, shrink=0.6, label=label)
     ax.set_xlabel("x [m]")
     ax.set_ylabel("y [m]")
@@ -203,7 +225,9 @@ def _flat_map(ds, name, path, scale=1.0, label=None, vmin=None, vmax=None, level
     fig, ax = plt.subplots(figsize=(7.0, 4.4), layout="constrained")
     u, v = ds["u"].values, ds["v"].values
     values = ds[name].values * scale
-    mesh = ax.pcolormesh(u, v, values, shading="gouraud", cmap="viridis", vmin=vmin, vmax=vmax)
+    # each node's own cell ("nearest"): half the drawing time of Gouraud shading (issue 54), and
+    # at 150 dpi a 192 x 96 grid's cells are 3-4 pixels wide
+    mesh = ax.pcolormesh(u, v, values, shading="nearest", cmap="viridis", vmin=vmin, vmax=vmax)
     if levels is not None:
         finite = values[np.isfinite(values)]
         usable = [lv for lv in levels if finite.size and finite.min() < lv < finite.max()]
