@@ -171,6 +171,46 @@ def read_netcdf(path: str | Path, kind: str, required: tuple[str, ...] = ()) -> 
     return ds
 
 
+def read_fields(path: str | Path, kind: str, names: tuple[str, ...]) -> xr.Dataset:
+    """Only the variables ``names`` of a project netCDF file of ``kind`` (`read_netcdf`'s
+    checks and errors), read by netCDF4 directly: about a third of `read_netcdf`'s time on a
+    192 x 96 result, where a figure reads every result of its sweep for its colour ranges."""
+    import netCDF4
+    import xarray as xr  # as in read_netcdf
+
+    path = Path(path)
+    if not path.is_file():
+        raise InputError("file not found; check the path or run the stage that makes it", path)
+    try:
+        with netCDF4.Dataset(path) as handle:
+            found = getattr(handle, "cloth_kind", None)
+            present = [name for name in names if name in handle.variables]
+            fields = {
+                name: (handle[name].dimensions, np.ma.filled(handle[name][:], np.nan))
+                for name in present
+            }
+    except OSError as exc:
+        raise InputError(
+            f"not a readable netCDF file ({type(exc).__name__}); re-create it", path
+        ) from None
+    if found != kind:
+        raise InputError(
+            f"expected a cloth {kind} file, found {found or 'no cloth_kind attribute'}; "
+            "pass the right file",
+            path,
+            "cloth_kind",
+        )
+    missing = [name for name in names if name not in present]
+    if missing:
+        raise InputError(
+            f"missing variable {missing[0]!r}; the file is incomplete or from another cloth "
+            "version, re-create it",
+            path,
+            missing[0],
+        )
+    return xr.Dataset(fields, attrs={"cloth_kind": found})
+
+
 def resolve(path: str, base_dir: str | Path) -> Path:
     """A path from a case, relative to ``base_dir`` unless absolute."""
     candidate = Path(path).expanduser()

@@ -19,7 +19,8 @@ import trimesh
 import xarray as xr
 from mpl_toolkits.mplot3d import proj3d
 
-from cloth.figures.onbody import body_band, body_figure, framed_points, garment_positions
+from cloth.figures.drawing import body_band, garment_positions
+from cloth.figures.onbody import body_figure, framed_points
 from cloth.figures.plots import class_bands
 from cloth.figures.view import EYE_DISTANCE, scene_frame
 from tests.conftest import load_result

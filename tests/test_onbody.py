@@ -8,10 +8,10 @@ import pytest
 from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
 from cloth.bodies.torso import chart_size, torso_mesh
+from cloth.figures.drawing import body_band
 from cloth.figures.onbody import (
     FIELDS,
     VIEWS,
-    body_band,
     body_figure,
     field_range,
     shared_ranges,
@@ -139,7 +139,7 @@ def test_the_body_drawn_around_a_garment_on_a_full_body_leaves_the_arms_out():
     import numpy as np
     import xarray as xr
 
-    from cloth.figures.onbody import BODY_MARGIN, body_band
+    from cloth.figures.drawing import BODY_MARGIN, body_band
     from cloth.io import sha256
 
     scan = Path(__file__).parent / "data" / "full_body_mm_yup.ply"

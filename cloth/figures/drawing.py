@@ -12,6 +12,7 @@ from __future__ import annotations
 import json
 import logging
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
@@ -21,6 +22,9 @@ from cloth.bodies.leg import DEFAULT_LEG_CHART, leg_mesh, leg_of
 from cloth.bodies.mesh import MeshBody
 from cloth.bodies.torso import chart_size, torso_mesh
 from cloth.io import sha256
+
+if TYPE_CHECKING:
+    import xarray as xr
 
 log = logging.getLogger(__name__)
 
@@ -129,3 +133,26 @@ def body_triangles(record: dict | str, z_low: float, z_high: float) -> Triangles
         if key in block:
             return _section_rings(kind(**block[key]), z_low, z_high)
     raise ValueError(f"no drawable body in {block}")
+
+
+#: The body is drawn this far (m) above and below the garment.
+BODY_MARGIN = 0.08
+
+
+def garment_positions(ds: xr.Dataset) -> NDArray[np.float64]:
+    """Node positions of a result, (m, n, 3), m (rows bottom to top, columns around)."""
+    return np.stack([ds[c].values for c in ("x", "y", "z")], axis=-1)
+
+
+def body_band(ds: xr.Dataset) -> tuple[NDArray, NDArray] | None:
+    """The result's body (vertices, faces) from below to above its garment and around it
+    (`BODY_MARGIN`): a full body's arms beside the band are left out, so the garment, not the
+    arm span, sets the frame."""
+    if "body" not in ds.attrs:
+        return None
+    points = garment_positions(ds).reshape(-1, 3)
+    low, high = points.min(axis=0) - BODY_MARGIN, points.max(axis=0) + BODY_MARGIN
+    body = body_triangles(ds.attrs["body"], float(low[2]), float(high[2]))
+    if body is None:
+        return None
+    return crop(*body, float(low[2]), float(high[2]), (low[:2], high[:2]))

@@ -31,7 +31,7 @@ from matplotlib import cm, colors
 from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 from numpy.typing import NDArray
 
-from cloth.figures.drawing import body_triangles, crop
+from cloth.figures.drawing import body_band, garment_positions
 from cloth.figures.plots import save_figure
 
 log = logging.getLogger(__name__)
@@ -47,8 +47,6 @@ VIEWS = {"front": 90.0, "side": 0.0, "back": -90.0}
 ELEVATION = 8.0
 #: At most this many quads around and up are drawn (finer grids: every stride-th line).
 MAX_AROUND, MAX_UP = 96, 48
-#: The body is drawn this far (m) above and below the garment.
-BODY_MARGIN = 0.08
 CMAP = "viridis"
 #: The body's colour (RGBA): light grey, translucent.
 BODY_COLOUR = (0.78, 0.78, 0.8, 0.35)
@@ -82,11 +80,6 @@ def shared_ranges(datasets: Sequence[xr.Dataset]):
     weft and warp on one scale) and pressure (mmHg), by `field_range`."""
     weft, warp = (field_range(datasets, f"stress_{d}") for d in ("weft", "warp"))
     return (min(weft[0], warp[0]), max(weft[1], warp[1])), field_range(datasets, "pressure_mmHg")
-
-
-def garment_positions(ds: xr.Dataset) -> NDArray[np.float64]:
-    """Node positions of a result, (m, n, 3), m (rows bottom to top, columns around)."""
-    return np.stack([ds[c].values for c in ("x", "y", "z")], axis=-1)
 
 
 def _quads(points: NDArray, values: NDArray, closed: bool):
@@ -280,20 +273,6 @@ def panel_aspect(ds: xr.Dataset, body: tuple[NDArray, NDArray] | None, labels: b
     vertical = float(high[2] - low[2])
     tilt = np.radians(ELEVATION)
     return horizontal / (vertical * np.cos(tilt) + horizontal * np.sin(tilt))
-
-
-def body_band(ds: xr.Dataset) -> tuple[NDArray, NDArray] | None:
-    """The result's body (vertices, faces) from below to above its garment and around it
-    (`BODY_MARGIN`): a full body's arms beside the band are left out, so the garment, not the
-    arm span, sets the frame."""
-    if "body" not in ds.attrs:
-        return None
-    points = garment_positions(ds).reshape(-1, 3)
-    low, high = points.min(axis=0) - BODY_MARGIN, points.max(axis=0) + BODY_MARGIN
-    body = body_triangles(ds.attrs["body"], float(low[2]), float(high[2]))
-    if body is None:
-        return None
-    return crop(*body, float(low[2]), float(high[2]), (low[:2], high[:2]))
 
 
 def _colour_bar(fig, axes, norm: colors.Normalize, label: str, values: NDArray) -> None:

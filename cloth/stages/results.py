@@ -11,6 +11,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
+from cloth.figures.drawing import body_band  # no matplotlib: a view draws with plotly
 from cloth.files import levels
 from cloth.files.body import body_from_record
 from cloth.files.result import (
@@ -24,7 +25,7 @@ from cloth.files.skin import result_skin_variables
 from cloth.files.state import read_state
 from cloth.garment.grid import WEFT
 from cloth.garment.mechanics import spring_state
-from cloth.io import read_netcdf, write_netcdf
+from cloth.io import read_fields, read_netcdf, write_netcdf
 from cloth.results.fields import lab_range_variables, node_average, node_fields
 from cloth.results.landmarks import landmark_heights, landmarks, sensor_readings
 from cloth.results.regions import Region, regions
@@ -33,6 +34,10 @@ from cloth.solvers.problem import Evaluation, Problem
 from cloth.solvers.stability import unstable_modes
 
 log = logging.getLogger(__name__)
+
+#: The variables of a sweep's results that set a case's figure colour ranges
+#: (`cloth.figures.onbody.shared_ranges`): all a figure job reads of its peers.
+RANGE_FIELDS = ("stress_weft", "stress_warp", "pressure_mmHg")
 
 
 def aggregate(relaxed_path: str | Path) -> tuple[xr.Dataset, list]:
@@ -203,12 +208,12 @@ def figures(
     from cloth.figures.plots import plot_result  # late: matplotlib (above)
 
     ds = read_netcdf(result_path, "result", ("stress_weft", "pressure", "u", "v"))
-    others = [read_netcdf(p, "result", ("stress_weft", "pressure_mmHg")) for p in peers]
+    others = [read_fields(p, "result", RANGE_FIELDS) for p in peers]
     shared_stress, shared_pressure = onbody.shared_ranges([ds, *others])
     stress_range = stress_range or shared_stress
     pressure_range = pressure_range or shared_pressure
     paths = plot_result(ds, folder, stress_range, pressure_range)
-    body = onbody.body_band(ds)
+    body = body_band(ds)
     for name, (variable, scale, _) in onbody.FIELDS.items():
         low, high = pressure_range if variable == "pressure_mmHg" else stress_range
         scale = 1.0 if variable == "pressure_mmHg" else scale
@@ -255,7 +260,6 @@ def write_result(
 def view(result: str | Path | xr.Dataset, output: str | Path) -> Path:
     """result.nc (or its dataset) -> the interactive HTML view over its body
     (`cloth.figures.view`)."""
-    from cloth.figures.onbody import body_band  # as in `figures`: matplotlib only where drawn
     from cloth.figures.view import write_view  # as in `figures`
 
     ds = (
