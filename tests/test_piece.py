@@ -150,12 +150,14 @@ def _printed(tmp_path, monkeypatch, piece, paper="A4"):
     return pages[0], pages[1:]
 
 
-def _wide_pattern(lines=(("waist", 100.0), ("hip", 300.0))) -> Pattern:
-    height = np.linspace(0.0, 420.0, 8)
+def _wide_pattern(
+    lines=(("waist", 100.0), ("hip", 300.0)), width: float = 600.0, tall: float = 420.0
+) -> Pattern:
+    height = np.linspace(0.0, tall, 8)
     return Pattern(
         height=height,
-        width=np.full(8, 600.0),
-        circumference=np.full(8, 1200.0),
+        width=np.full(8, width),
+        circumference=np.full(8, 2.0 * width),
         cut_height=1e-3 * height,
         reduction=None,
         lines=lines,
@@ -323,8 +325,12 @@ def test_every_line_of_the_print_is_exact_and_every_outline_open(tmp_path, monke
     assert cut.get_edgecolor() == (0.0, 0.0, 0.0, 1.0) and cut.get_linestyle() == "solid"
 
 
+@pytest.mark.parametrize(
+    ("width", "tall"),
+    [(600.0, 420.0), (1500.0, 300.0)],  # the map's height binds its scale, then its width
+)
 def test_the_cover_s_tile_map_is_the_tiles_scaled_and_the_pdf_names_its_maker(
-    tmp_path, monkeypatch, caplog
+    tmp_path, monkeypatch, caplog, width, tall
 ):
     """The cover's map: the piece's cut line and every tile's window scaled by one factor from
     the first tile's corner, each tile's name at its window's centre, all inside the printable
@@ -334,7 +340,7 @@ def test_the_cover_s_tile_map_is_the_tiles_scaled_and_the_pdf_names_its_maker(
     from cloth.files.printout import tiles
 
     caplog.set_level(logging.INFO, logger="cloth.files.printout")
-    piece = piece_of(_wide_pattern(), "M", "power net", 6.0)
+    piece = piece_of(_wide_pattern(width=width, tall=tall), "M", "power net", 6.0)
     cover, tiled = _printed(tmp_path, monkeypatch, piece)
     (ax,) = cover.axes
     cut = piece.cut
@@ -445,3 +451,110 @@ def test_each_tile_s_overlap_bands_and_crosses_lie_where_its_neighbours_are(tmp_
         for ln in arms:  # one horizontal and one vertical arm through each centre
             assert np.ptp(ln.get_xdata()) == 0.0 or np.ptp(ln.get_ydata()) == 0.0
         assert len(arms) == 2 * len(expected_crosses)
+
+
+def test_every_label_and_pen_of_the_print_is_where_its_layout_says(tmp_path, monkeypatch):
+    """Each text at its place, size and alignment, each line in its pen (module constants of
+    `cloth.files.printout` restated here as literals, mm and pt): the cover's "10 cm" at the
+    check square's centre, the instruction one line pitch (6 mm) under the square, the
+    annotation from 20 mm under it at 6 mm a line, the map's names and title; on each tile its
+    title centred 5 mm from the page's top, the grain's label 3 mm right of its arrow and
+    halfway up it, each girth line's name 8 mm in and 1.5 mm above it in the line's red, the
+    annotation 8 mm in from half the sew line's height down at 6 mm a line; the cut line 0.8 pt
+    black solid, the sew line 0.5 pt grey dashed, notches 0.8 pt black, girth lines 0.5 pt red
+    dashed, the overlap edges 0.4 pt grey dotted and the crosses 0.5 pt black."""
+    from matplotlib.colors import to_rgba
+
+    piece = piece_of(_wide_pattern(), "M", "power net", 6.0, ["pressure targets (mmHg): waist 20"])
+    cover, tiled = _printed(tmp_path, monkeypatch, piece)
+    (ax,) = cover.axes
+    height_mm = cover.get_size_inches()[1] * 25.4
+    left, top = 15.0, height_mm - 15.0  # margin 10 mm + inset 5 mm
+    texts = {t.get_text(): t for t in ax.texts}
+    label = texts["10 cm"]
+    assert label.get_position() == pytest.approx((left + 50.0, top - 50.0))
+    assert (label.get_ha(), label.get_va()) == ("center", "center")
+    square = next(p for p in ax.patches if p.__class__.__name__ == "Rectangle")
+    assert square.get_xy() == pytest.approx((left, top - 100.0)) and square.get_linewidth() == 0.8
+    instruction = next(t for t in ax.texts if t.get_text().startswith("Check square"))
+    assert instruction.get_position() == pytest.approx((left, top - 106.0))
+    assert (instruction.get_fontsize(), instruction.get_va()) == (8.0, "top")
+    lines = [*piece.annotation(), next(t for t in texts if t.startswith("Paper: "))]
+    for k, line in enumerate(lines):
+        text = texts[line]
+        assert text.get_position() == pytest.approx((left, top - 120.0 - 6.0 * k)), line
+        assert (text.get_fontsize(), text.get_va()) == (9.0, "top")
+    assert texts["tiles (overlap dotted)"].get_fontsize() == 8.0
+    for name in (t for t in texts if re.fullmatch(r"[A-Z]\d+", t)):
+        assert texts[name].get_fontsize() == 7.0
+    outline, *rectangles = ax.patches[1:]
+    assert outline.get_linewidth() == 0.6 and outline.get_linestyle() == "solid"
+    for rectangle in rectangles:
+        assert rectangle.get_linewidth() == 0.4 and rectangle.get_linestyle() == ":"
+    red = to_rgba("tab:red")
+    sew_top = float(piece.sew[:, 1].max())
+    for fig in tiled:
+        page_height = fig.get_size_inches()[1] * 25.4
+        (title,) = fig.texts
+        assert title.get_position() == pytest.approx((0.5, (page_height - 5.0) / page_height))
+        assert (title.get_ha(), title.get_va(), title.get_fontsize()) == ("center", "center", 7.0)
+        (tile,) = fig.axes
+        drawn = {t.get_text(): t for t in tile.texts if t.get_text()}
+        (gx0, gy0), (_, gy1) = piece.grain
+        grain = drawn["grain (warp)"]
+        assert grain.get_position() == pytest.approx((gx0 + 3.0, 0.5 * (gy0 + gy1)))
+        assert (grain.get_fontsize(), grain.get_va()) == (7.0, "center")
+        arrow = next(t for t in tile.texts if t.get_text() == "" and hasattr(t, "xy"))
+        assert arrow.arrow_patch.get_linewidth() == 0.6
+        for name, y, line_left, _ in piece.girths:
+            text = drawn[name]
+            assert text.get_position() == pytest.approx((line_left + 8.0, y + 1.5)), name
+            assert text.get_fontsize() == 7.0 and to_rgba(text.get_color()) == red
+        for k, line in enumerate(piece.annotation()[:4]):
+            text = drawn[line]
+            assert text.get_position() == pytest.approx((8.0, 0.5 * sew_top - 6.0 * k)), line
+            assert text.get_fontsize() == 8.0
+        cut, sew = tile.patches
+        assert cut.get_linewidth() == 0.8 and cut.get_edgecolor() == to_rgba("black")
+        assert sew.get_linewidth() == 0.5 and sew.get_linestyle() == "--"
+        assert sew.get_edgecolor() == to_rgba("0.3")
+        girths = {round(y, 6) for _, y, _, _ in piece.girths}
+        for ln in tile.lines:
+            xs, ys = ln.get_xdata(), ln.get_ydata()
+            style = (ln.get_linewidth(), ln.get_linestyle(), to_rgba(ln.get_color()))
+            if ln.get_linestyle() == "--":  # a girth line, at its height
+                assert round(float(ys[0]), 6) in girths and style == (0.5, "--", red)
+            elif ln.get_linestyle() == ":":  # an overlap band's inner edge
+                assert style == (0.4, ":", to_rgba("0.4"))
+            else:  # a notch or a cross's arm
+                assert ln.get_linestyle() == "-" and to_rgba(ln.get_color()) == to_rgba("black")
+                is_notch = any(
+                    np.allclose(np.stack([xs, ys], axis=1), [start, end])
+                    for start, end in piece.notches
+                )
+                assert ln.get_linewidth() == (0.8 if is_notch else 0.5)
+
+
+def test_the_tiles_count_the_piece_s_own_extent_and_the_map_shows_for_two_or_more():
+    """A window from y = -100 to 200 mm is 300 mm tall (two A4 rows of 277 mm printable), not
+    its top's 200; exactly the printable area is one tile; an unknown paper names its field and
+    the papers there are."""
+    assert len(tiles((0.0, -100.0, 150.0, 200.0), "A4")) == 2
+    assert len(tiles((0.0, 0.0, 190.0, 277.0), "A4")) == 1  # 210 - 20 by 297 - 20
+    assert len(tiles((0.0, 0.0, 190.0, 277.0 + 1e-9), "A4")) == 2
+    with pytest.raises(InputError) as caught:
+        tiles((0.0, 0.0, 1.0, 1.0), "A5")
+    assert caught.value.field == "--paper"
+    assert str(caught.value).endswith("unknown paper 'A5'; give one of A4, letter")
+
+
+@pytest.mark.parametrize(("width", "maps"), [(150.0, False), (300.0, True)])
+def test_the_cover_maps_the_tiles_only_where_there_are_two_or_more(
+    tmp_path, monkeypatch, width, maps
+):
+    """A panel that fits one A4 page has no tile map; one two pages wide has."""
+    piece = piece_of(_wide_pattern((), width=width, tall=200.0), "M", "power net", 0.0)
+    cover, tiled = _printed(tmp_path, monkeypatch, piece)
+    assert len(tiled) == (2 if maps else 1)
+    texts = [t.get_text() for t in cover.axes[0].texts]
+    assert ("tiles (overlap dotted)" in texts) == maps
