@@ -376,6 +376,21 @@ BUGS = [
         '    kernel: str = "hat"',
         "tests/test_inventory.py -k default",
     ),
+    # issue 54: a design met on a grid that cannot tell; figures blind to their sweep
+    Bug(
+        "a design met whatever its stated error",
+        "cloth/stages/graded.py",
+        "    decided = math.isfinite(error) and error <= tolerance\n",
+        "    decided = True\n",
+        "tests/test_design.py -k 'met_only or coarse_design'",
+    ),
+    Bug(
+        "a case's figures coloured by its own range, not its sweep's",
+        "cloth/stages/results.py",
+        "shared_ranges([ds, *others])",
+        "shared_ranges([ds])",
+        "tests/test_results.py -k colour_ranges",
+    ),
 ]
 
 

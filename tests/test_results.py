@@ -223,6 +223,51 @@ def test_plotted_arrays_are_the_datasets(cylinder, tmp_path, monkeypatch):
     np.testing.assert_array_equal(seen[2], ds["pressure_mmHg"].values)
 
 
+def test_a_case_s_figures_share_their_colour_ranges_with_its_peers(cylinder, tmp_path, monkeypatch):
+    """`cloth plot --peers` (the pipeline's figures): the flat maps' colour ranges are the 1st
+    to 99th percentile of every node of the result and its peers (from 0 where all are
+    positive), the weft and the warp on one stress scale, the pressure in mmHg; read from the
+    peers' files, here a copy of the cylinder with its stresses doubled and its pressure
+    tripled (so that the peer, not the result, sets the upper ends)."""
+    import matplotlib.axes
+
+    from cloth.stages.results import figures
+
+    _, ds, _ = cylinder
+    result = write_netcdf(ds, tmp_path / "result.nc")
+    peer = ds.assign(
+        stress_weft=2.0 * ds["stress_weft"],
+        stress_warp=2.0 * ds["stress_warp"],
+        pressure_mmHg=3.0 * ds["pressure_mmHg"],
+    )
+    peer_path = write_netcdf(peer, tmp_path / "peer.nc")
+    limits = []
+    original = matplotlib.axes.Axes.pcolormesh
+
+    def spy(self, *args, **kwargs):
+        if len(args) == 3 and np.shape(args[2]) == ds["u"].shape:  # maps, not colour bars
+            limits.append((kwargs["vmin"], kwargs["vmax"]))
+        return original(self, *args, **kwargs)
+
+    monkeypatch.setattr(matplotlib.axes.Axes, "pcolormesh", spy)
+    figures(result, tmp_path / "figures", peers=[peer_path])
+
+    def expected(*arrays):
+        values = np.concatenate([np.ravel(a) for a in arrays])
+        low, high = np.percentile(values[np.isfinite(values)], [1, 99])
+        return min(0.0, low), high
+
+    weft = expected(ds["stress_weft"].values, peer["stress_weft"].values)
+    warp = expected(ds["stress_warp"].values, peer["stress_warp"].values)
+    stress = (min(weft[0], warp[0]), max(weft[1], warp[1]))
+    pressure = expected(ds["pressure_mmHg"].values, peer["pressure_mmHg"].values)
+    assert len(limits) == 3  # weft, warp, pressure
+    np.testing.assert_allclose(limits[0], stress, rtol=1e-12)
+    np.testing.assert_allclose(limits[1], stress, rtol=1e-12)
+    np.testing.assert_allclose(limits[2], pressure, rtol=1e-12)
+    assert limits[2][1] > 2.0 * float(np.nanmax(ds["pressure_mmHg"].values))  # the peer's
+
+
 @pytest.mark.slow  # a scan relaxed (8 s; make test-slow)
 def test_landmarks_of_a_scan_come_from_the_girth_profile(tmp_path):
     from cloth.bodies.torso import chart_size, torso_mesh
