@@ -1,9 +1,10 @@
 """`make run`'s wall time at two revisions, side by side in one run on this machine: each revision
 cloned to a temporary folder and its default pipeline (``snakemake --cores 2`` on
 config/config.yaml, the work of ``make run`` with the install excluded: both use this checkout's
-.venv) run ``--repeat`` times, alternating; prints the median of each and their ratio, and what
-each run's numbers say of their accuracy (`accuracy`): the largest stated error of a girth-line
-mean over every case (% of its value), the lines without one, and the widest design interval.
+.venv) run ``--repeat`` times, alternating; prints the median of each and their ratio, each
+run's job time by rule (from its Snakemake log), and what each run's numbers say of their
+accuracy (`accuracy`): the largest stated error of a girth-line mean over every case (% of its
+value), the lines without one, and the widest design interval.
 
     .venv/bin/python benchmarks/make_run_time.py BEFORE AFTER [--repeat 1] [--config PATH]
 
@@ -17,11 +18,13 @@ import argparse
 import csv
 import math
 import os
+import re
 import statistics
 import subprocess
 import sys
 import tempfile
 import time
+from datetime import datetime
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -54,6 +57,37 @@ def run(folder: Path, config: str) -> float:
     if done.returncode:
         sys.exit(f"{folder.name}: the pipeline failed:\n{done.stderr[-2000:]}")
     return time.perf_counter() - start
+
+
+def rule_times(folder: Path) -> dict[str, list[float]]:
+    """Job time (s) of every job of the clone's last Snakemake run, by rule: from the log's
+    timestamp before each job's ``rule NAME:`` block to the one before its ``Finished jobid``
+    line (one-second resolution)."""
+    log = max((folder / ".snakemake" / "log").glob("*.snakemake.log"))
+    started: dict[str, tuple[str, datetime]] = {}
+    times: dict[str, list[float]] = {}
+    stamp = pending = None
+    for line in log.read_text().splitlines():
+        if found := re.fullmatch(r"\[(\w{3} \w{3} +\d+ \d\d:\d\d:\d\d \d{4})\]", line):
+            stamp = datetime.strptime(found.group(1), "%a %b %d %H:%M:%S %Y")
+        elif found := re.match(r"(?:local)?(?:rule|checkpoint) (\w+):", line):
+            pending = (found.group(1), stamp)
+        elif (found := re.match(r"\s+jobid: (\d+)", line)) and pending:
+            started[found.group(1)], pending = pending, None
+        elif (found := re.match(r"Finished jobid: (\d+)", line)) and found.group(1) in started:
+            rule, start = started[found.group(1)]
+            times.setdefault(rule, []).append((stamp - start).total_seconds())
+    return times
+
+
+def rule_table(times: dict[str, list[float]]) -> str:
+    rows = ["| rule | jobs | total [s] | median per job [s] |", "|---|---|---|---|"]
+    for rule, spans in sorted(times.items(), key=lambda kv: -sum(kv[1])):
+        rows.append(
+            f"| {rule} | {len(spans)} | {sum(spans):.0f} | {statistics.median(spans):.0f} |"
+        )
+    total = sum(sum(spans) for spans in times.values())
+    return "\n".join([*rows, f"| all | | {total:.0f} | |"])
 
 
 def accuracy(folder: Path) -> str:
@@ -101,6 +135,7 @@ def main() -> None:
             for revision, folder in zip(args.revisions, folders, strict=True):
                 times[revision].append(run(folder, args.config))
                 print(f"{revision}: {times[revision][-1]:.1f} s; {accuracy(folder)}", flush=True)
+                print(rule_table(rule_times(folder)), flush=True)
     before, after = (statistics.median(times[r]) for r in args.revisions)
     print(f"\n| revision | median wall time [s] (of {args.repeat}) |\n|---|---|")
     for revision in args.revisions:
