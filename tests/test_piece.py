@@ -386,7 +386,15 @@ def test_the_cover_s_tile_map_is_the_tiles_scaled_and_the_pdf_names_its_maker(
     title = next(t for t in ax.texts if t.get_text() == "tiles (overlap dotted)")
     assert title.get_position()[1] == pytest.approx(origin[1] + scale * (union[3] - union[1]) + 3.0)
     orientation = " landscape" if layout is landscape else ""
-    assert f"{len(layout)} tile(s) on A4{orientation} at 1:1" in caplog.text
+    assert f"wrote {tmp_path / 'p.pdf'}: {len(layout)} tile(s) on A4{orientation} at 1:1" in (
+        caplog.text
+    )
+    paper = next(t.get_text() for t in ax.texts if t.get_text().startswith("Paper: "))
+    assert paper.endswith("landscape" if layout is landscape else "portrait")
+    assert (width > 1000.0) == (layout is landscape)  # the wide piece prints turned
+    import matplotlib.pyplot as plt
+
+    assert plt.get_fignums() == []  # every page's figure closed
     assert b"/Creator (cloth)" in (tmp_path / "p.pdf").read_bytes()
 
 
@@ -522,8 +530,10 @@ def test_every_label_and_pen_of_the_print_is_where_its_layout_says(tmp_path, mon
         for ln in tile.lines:
             xs, ys = ln.get_xdata(), ln.get_ydata()
             style = (ln.get_linewidth(), ln.get_linestyle(), to_rgba(ln.get_color()))
-            if ln.get_linestyle() == "--":  # a girth line, at its height
+            if ln.get_linestyle() == "--":  # a girth line, at its height, across the piece
                 assert round(float(ys[0]), 6) in girths and style == (0.5, "--", red)
+                (line,) = [g for g in piece.girths if round(g[1], 6) == round(float(ys[0]), 6)]
+                np.testing.assert_allclose(xs, line[2:], rtol=0, atol=1e-12)
             elif ln.get_linestyle() == ":":  # an overlap band's inner edge
                 assert style == (0.4, ":", to_rgba("0.4"))
             else:  # a notch or a cross's arm
@@ -548,13 +558,26 @@ def test_the_tiles_count_the_piece_s_own_extent_and_the_map_shows_for_two_or_mor
     assert str(caught.value).endswith("unknown paper 'A5'; give one of A4, letter")
 
 
-@pytest.mark.parametrize(("width", "maps"), [(150.0, False), (300.0, True)])
+@pytest.mark.parametrize(
+    ("width", "tall", "maps"), [(150.0, 200.0, False), (300.0, 200.0, True), (185.0, 185.0, True)]
+)
 def test_the_cover_maps_the_tiles_only_where_there_are_two_or_more(
-    tmp_path, monkeypatch, width, maps
+    tmp_path, monkeypatch, width, tall, maps
 ):
-    """A panel that fits one A4 page has no tile map; one two pages wide has."""
-    piece = piece_of(_wide_pattern((), width=width, tall=200.0), "M", "power net", 0.0)
+    """A panel that fits one A4 page has no tile map; one two pages wide has; so has a net
+    panel 185 mm square, which the 5 mm clearance on each side takes past the 190 mm the page
+    prints either way (portrait 190 x 277, landscape 277 x 190)."""
+    piece = piece_of(_wide_pattern((), width=width, tall=tall), "M", "power net", 0.0)
     cover, tiled = _printed(tmp_path, monkeypatch, piece)
     assert len(tiled) == (2 if maps else 1)
     texts = [t.get_text() for t in cover.axes[0].texts]
     assert ("tiles (overlap dotted)" in texts) == maps
+
+
+def test_a_seam_allowance_under_a_millimetre_still_prints_its_sew_line(tmp_path, monkeypatch):
+    """0.5 mm of allowance: the cut line and, inside it, the sew line (two outlines)."""
+    piece = piece_of(_wide_pattern(), "M", "power net", 0.5)
+    _, tiled = _printed(tmp_path, monkeypatch, piece)
+    cut, sew = tiled[0].axes[0].patches
+    np.testing.assert_allclose(sew.get_xy()[: len(piece.sew)], piece.sew)
+    np.testing.assert_allclose(cut.get_xy()[: len(piece.cut)], piece.cut)
