@@ -592,6 +592,8 @@ def test_a_design_confirmed_off_its_target_names_the_worst_line(caplog):
 
     rows = [
         {"landmark": "low", "confirmed_mmHg": 18.2, "target_mmHg": 18.0, "verdict": "met"},
+        # missed, by less (0.6 mmHg, though its value is larger) and first: not the one named
+        {"landmark": "mid", "confirmed_mmHg": 30.6, "target_mmHg": 30.0, "verdict": "missed"},
         {"landmark": "high", "confirmed_mmHg": 21.1, "target_mmHg": 22.0, "verdict": "missed"},
         {"landmark": "top", "confirmed_mmHg": 14.5, "target_mmHg": 15.0, "verdict": "met"},
         # furthest off, but undecided by the grid: a warning, not the error
