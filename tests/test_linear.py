@@ -318,3 +318,21 @@ def test_hopeless_is_a_projection_past_one_and_a_half_times_the_limit(
     residual, iterations, rtol, hopeless
 ):
     assert _hopeless(residual, iterations, rtol) is hopeless
+
+
+@pytest.mark.parametrize("method", ["cg", "gmres"])
+def test_krylov_stops_at_its_limit_and_answers_on_its_last_iteration(method):
+    """Unpreconditioned, 40 eigenvalues in 1-10 to 1e-12: the mean rate projects 42 iterations
+    at the 10th (not past 45: kept going), and the solve stops at the limit, exactly 30, with no
+    answer; 40 eigenvalues in 1-5 to 1e-14 converge on the 30th iteration exactly, which
+    answers (GMRES in one cycle of 30: no restart)."""
+    from cloth.solvers.krylov import cg_on, gmres_on
+
+    solve = cg_on if method == "cg" else gmres_on
+    rhs = np.random.default_rng(1).normal(size=40)
+    slow = sp.diags(np.geomspace(1.0, 10.0, 40), format="csr")
+    assert solve(slow, _Diagonal(np.ones(40)), rhs, 1e-12) == (None, KRYLOV_LIMIT)
+    diagonal = np.geomspace(1.0, 5.0, 40)
+    x, iterations = solve(sp.diags(diagonal, format="csr"), _Diagonal(np.ones(40)), rhs, 1e-14)
+    assert iterations == KRYLOV_LIMIT
+    np.testing.assert_allclose(x, rhs / diagonal, rtol=1e-12)
