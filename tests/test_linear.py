@@ -292,7 +292,7 @@ def test_cg_gives_up_on_negative_curvature_and_past_its_limit_and_answers_zero_a
     x, iterations = cg_on(spread, _Diagonal(np.ones(40)), rhs, 1e-14)
     assert x is None and KRYLOV_CHECK <= iterations <= KRYLOV_LIMIT
     x, iterations = cg_on(spread, _Diagonal(np.ones(40)), np.zeros(40, dtype=int), 1e-8)
-    assert iterations == 0 and x.dtype == np.float64 and not x.any()
+    assert iterations == 0 and x.dtype == np.float64 and x.shape == (40,) and not x.any()
 
 
 def test_gmres_gives_up_where_it_would_not_reach_its_tolerance():
