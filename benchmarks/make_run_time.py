@@ -2,9 +2,9 @@
 cloned to a temporary folder and its default pipeline (``snakemake --cores 2`` on
 config/config.yaml, the work of ``make run`` with the install excluded: both use this checkout's
 .venv) run ``--repeat`` times, alternating; prints the median of each and their ratio, each
-run's job time by rule (from its Snakemake log), and what each run's numbers say of their
-accuracy (`accuracy`): the largest stated error of a girth-line mean over every case (% of its
-value), the lines without one, and the widest design interval.
+run's job time by rule (from Snakemake's records of its jobs), and what each run's numbers
+say of their accuracy (`accuracy`): the largest stated error of a girth-line mean over every
+case (% of its value), the lines without one, and the widest design interval.
 
     .venv/bin/python benchmarks/make_run_time.py BEFORE AFTER [--repeat 1] [--config PATH]
 
@@ -16,15 +16,14 @@ from __future__ import annotations
 
 import argparse
 import csv
+import json
 import math
 import os
-import re
 import statistics
 import subprocess
 import sys
 import tempfile
 import time
-from datetime import datetime
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -60,23 +59,18 @@ def run(folder: Path, config: str) -> float:
 
 
 def rule_times(folder: Path) -> dict[str, list[float]]:
-    """Job time (s) of every job of the clone's last Snakemake run, by rule: from the log's
-    timestamp before each job's ``rule NAME:`` block to the one before its ``Finished jobid``
-    line (one-second resolution)."""
-    log = max((folder / ".snakemake" / "log").glob("*.snakemake.log"))
-    started: dict[str, tuple[str, datetime]] = {}
+    """Job time (s) of every job of the clone's last Snakemake run, by rule: each job's start
+    and end as Snakemake records them with its outputs (``.snakemake/metadata``, one record per
+    output file; a job's outputs share its hash)."""
+    jobs: dict[tuple[str, int], float] = {}
+    for record in (folder / ".snakemake" / "metadata").iterdir():
+        data = json.loads(record.read_text())
+        if data.get("starttime") and data.get("endtime"):
+            key = (data["rule"], data.get("job_hash", record.name))
+            jobs[key] = data["endtime"] - data["starttime"]
     times: dict[str, list[float]] = {}
-    stamp = pending = None
-    for line in log.read_text().splitlines():
-        if found := re.fullmatch(r"\[(\w{3} \w{3} +\d+ \d\d:\d\d:\d\d \d{4})\]", line):
-            stamp = datetime.strptime(found.group(1), "%a %b %d %H:%M:%S %Y")
-        elif found := re.match(r"(?:local)?(?:rule|checkpoint) (\w+):", line):
-            pending = (found.group(1), stamp)
-        elif (found := re.match(r"\s+jobid: (\d+)", line)) and pending:
-            started[found.group(1)], pending = pending, None
-        elif (found := re.match(r"Finished jobid: (\d+)", line)) and found.group(1) in started:
-            rule, start = started[found.group(1)]
-            times.setdefault(rule, []).append((stamp - start).total_seconds())
+    for (rule, _), seconds in jobs.items():
+        times.setdefault(rule, []).append(seconds)
     return times
 
 
