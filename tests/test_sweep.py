@@ -7,6 +7,7 @@ from __future__ import annotations
 import csv
 import json
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -148,6 +149,16 @@ def test_a_lengthwise_variant_keeps_its_values_as_numbers(tmp_path):
     assert ds["lengthwise_reduction"].dtype == np.float64
 
 
+def _without_mean(path: Path, line: str) -> Path:
+    """A result file of one girth line ``line`` without its ``pressure_mean``."""
+    xr.Dataset(
+        {"pressure_max": ("landmark", [1.0])},
+        coords={"landmark": [line]},
+        attrs={"cloth_kind": "result"},
+    ).to_netcdf(path)
+    return path
+
+
 def test_a_result_without_its_mean_or_convergence_flag(tmp_path):
     """A result.nc without ``pressure_mean`` is refused naming it; one without the
     ``converged`` attribute counts as not converged."""
@@ -155,12 +166,7 @@ def test_a_result_without_its_mean_or_convergence_flag(tmp_path):
         {"case": "a", "material": "m", "body": "b", "reduction": 0.1},
         {"case": "c", "material": "m", "body": "b", "reduction": 0.2},
     ]
-    bare = tmp_path / "bare.nc"
-    xr.Dataset(
-        {"pressure_max": ("landmark", [1.0])},
-        coords={"landmark": ["waist"]},
-        attrs={"cloth_kind": "result"},
-    ).to_netcdf(bare)
+    bare = _without_mean(tmp_path / "bare.nc", "waist")
     good = _result(tmp_path / "good.nc", [1000.0], lines=["waist"])
     with pytest.raises(InputError, match="pressure_mean"):
         collect(index, [good, bare])
@@ -416,14 +422,8 @@ def test_confirm_and_the_header_with_one_row(tmp_path):
 
     row = {"material": "m", "body": "b", "landmark": "w", "status": "ok", "target_Pa": "1000"}
     assert design_header([{**row, "worn": 1}])[:3] == ["material", "body", "worn"]
-    bare = tmp_path / "bare.nc"
-    xr.Dataset(
-        {"pressure_max": ("landmark", [1.0])},
-        coords={"landmark": ["w"]},
-        attrs={"cloth_kind": "result"},
-    ).to_netcdf(bare)
     with pytest.raises(InputError, match="pressure_mean"):
-        confirm([row], [bare])
+        confirm([row], [_without_mean(tmp_path / "bare.nc", "w")])
     flagless = tmp_path / "flagless.nc"
     xr.Dataset(
         {"pressure_mean": ("landmark", [900.0])},

@@ -373,10 +373,11 @@ SWEEP_COLUMNS = {
 
 
 def _csv(path: Path) -> list[dict[str, str]]:
+    """A written table's rows, its ``#`` comment lines (a pattern's girth lines) left out."""
     import csv
 
     with open(path, newline="") as handle:
-        return list(csv.DictReader(handle))
+        return list(csv.DictReader(line for line in handle if not line.startswith("#")))
 
 
 def _close(written: str, value: float, rel: float = 1e-5) -> bool:
@@ -540,7 +541,7 @@ def test_the_graded_design_s_files_are_its_loop_and_its_confirmation(tiny_run):
         for knot, value in designed.items():
             assert _close(row[f"reduction_{knot}"], value)
             assert _close(last[f"reduction_{knot}"], value)
-    rows = _csv_rows_after_comments(where / "pattern.csv")
+    rows = _csv(where / "pattern.csv")
     assert [int(r["row"]) for r in rows] == list(range(ds.sizes["row"]))
     for column, values in (
         ("pattern_height_mm", 1e3 * ds["pattern_height"].values),
@@ -551,10 +552,3 @@ def test_the_graded_design_s_files_are_its_loop_and_its_confirmation(tiny_run):
     ):
         np.testing.assert_allclose([float(r[column]) for r in rows], values, atol=1e-4, rtol=2e-6)
     assert {r["cut"] for r in rows} == {"two-panel"}
-
-
-def _csv_rows_after_comments(path: Path) -> list[dict[str, str]]:
-    import csv
-
-    with open(path, newline="") as handle:
-        return list(csv.DictReader(line for line in handle if not line.startswith("#")))
