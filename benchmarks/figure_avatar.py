@@ -24,7 +24,8 @@ import xarray as xr
 import yaml
 from matplotlib import colors
 
-from cloth.figures.onbody import CMAP, FIELDS, VIEWS, body_band, draw_view, field_range
+from cloth.figures.drawing import body_band
+from cloth.figures.onbody import CMAP, FIELDS, VIEWS, draw_view, field_range
 from cloth.figures.plots import save_figure
 from cloth.stages.case import run_case
 

@@ -25,7 +25,8 @@ import yaml
 from matplotlib import colors
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-from cloth.figures.onbody import VIEWS, body_band, draw_view, field_range
+from cloth.figures.drawing import body_band
+from cloth.figures.onbody import VIEWS, draw_view, field_range
 from cloth.figures.plots import save_figure
 from cloth.io import read_netcdf
 from cloth.stages.case import run_case
