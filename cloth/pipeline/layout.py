@@ -56,7 +56,7 @@ class Layout:
         return f"{self.root}/bodies/{body}.{suffix}"
 
     def case_file(self, name: str, case: str = "{case}") -> str:
-        """A case's file: ``case.yaml``, ``initial.nc``, ``initial.png``, ``relaxed.nc``,
+        """A case's file: ``case.yaml``, ``initial.nc``, ``relaxed.nc``,
         ``result.nc``, ``summary.csv``, ``garment.html`` or ``figures`` (its figures)."""
         return f"{self.root}/cases/{case}/{name}"
 
