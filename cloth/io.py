@@ -15,7 +15,7 @@ import os
 import shlex
 import sys
 import tempfile
-from collections.abc import Iterator, Mapping
+from collections.abc import Container, Iterator, Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -142,32 +142,13 @@ def read_netcdf(path: str | Path, kind: str, required: tuple[str, ...] = ()) -> 
     """
     import xarray as xr  # here, not at the top: a stage that writes no netCDF skips its import
 
-    path = Path(path)
-    if not path.is_file():
-        raise InputError("file not found; check the path or run the stage that makes it", path)
+    path = _existing(path)
     try:
         with xr.open_dataset(path, engine="netcdf4") as ds:
             ds.load()
     except Exception as exc:  # netCDF4/HDF5 raise a variety of errors for corrupt files
-        raise InputError(
-            f"not a readable netCDF file ({type(exc).__name__}); re-create it", path
-        ) from None
-    found = ds.attrs.get("cloth_kind")
-    if found != kind:
-        raise InputError(
-            f"expected a cloth {kind} file, found {found or 'no cloth_kind attribute'}; "
-            "pass the right file",
-            path,
-            "cloth_kind",
-        )
-    missing = [name for name in required if name not in ds.variables]
-    if missing:
-        raise InputError(
-            f"missing variable {missing[0]!r}; the file is incomplete or from another cloth "
-            "version, re-create it",
-            path,
-            missing[0],
-        )
+        raise _unreadable(path, exc) from None
+    _check_contents(path, kind, ds.attrs.get("cloth_kind"), required, ds.variables)
     return ds
 
 
@@ -178,21 +159,37 @@ def read_fields(path: str | Path, kind: str, names: tuple[str, ...]) -> xr.Datas
     import netCDF4
     import xarray as xr  # as in read_netcdf
 
-    path = Path(path)
-    if not path.is_file():
-        raise InputError("file not found; check the path or run the stage that makes it", path)
+    path = _existing(path)
     try:
         with netCDF4.Dataset(path) as handle:
             found = getattr(handle, "cloth_kind", None)
-            present = [name for name in names if name in handle.variables]
             fields = {
                 name: (handle[name].dimensions, np.ma.filled(handle[name][:], np.nan))
-                for name in present
+                for name in names
+                if name in handle.variables
             }
     except OSError as exc:
-        raise InputError(
-            f"not a readable netCDF file ({type(exc).__name__}); re-create it", path
-        ) from None
+        raise _unreadable(path, exc) from None
+    _check_contents(path, kind, found, names, fields)
+    return xr.Dataset(fields, attrs={"cloth_kind": found})
+
+
+def _existing(path: str | Path) -> Path:
+    path = Path(path)
+    if not path.is_file():
+        raise InputError("file not found; check the path or run the stage that makes it", path)
+    return path
+
+
+def _unreadable(path: Path, exc: Exception) -> InputError:
+    return InputError(f"not a readable netCDF file ({type(exc).__name__}); re-create it", path)
+
+
+def _check_contents(
+    path: Path, kind: str, found: str | None, required: tuple[str, ...], present: Container
+) -> None:
+    """`InputError` where the file's ``cloth_kind`` (``found``) is not ``kind``, or a variable
+    of ``required`` is not in ``present``."""
     if found != kind:
         raise InputError(
             f"expected a cloth {kind} file, found {found or 'no cloth_kind attribute'}; "
@@ -200,7 +197,7 @@ def read_fields(path: str | Path, kind: str, names: tuple[str, ...]) -> xr.Datas
             path,
             "cloth_kind",
         )
-    missing = [name for name in names if name not in present]
+    missing = [name for name in required if name not in present]
     if missing:
         raise InputError(
             f"missing variable {missing[0]!r}; the file is incomplete or from another cloth "
@@ -208,7 +205,6 @@ def read_fields(path: str | Path, kind: str, names: tuple[str, ...]) -> xr.Datas
             path,
             missing[0],
         )
-    return xr.Dataset(fields, attrs={"cloth_kind": found})
 
 
 def resolve(path: str, base_dir: str | Path) -> Path:
