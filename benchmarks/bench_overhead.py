@@ -25,15 +25,10 @@ import tempfile
 import time
 from pathlib import Path
 
+from make_run_time import clone
+
 ROOT = Path(__file__).resolve().parents[1]
 RULES = ("predeform", "aggregate", "figures", "view")
-
-
-def clone(revision: str, where: Path) -> Path:
-    folder = where / revision.replace("/", "_")
-    subprocess.run(["git", "clone", "-q", str(ROOT), str(folder)], check=True)
-    subprocess.run(["git", "-C", str(folder), "checkout", "-q", revision], check=True)
-    return folder
 
 
 def commands(folder: Path, case: Path, peers: list[Path], out: Path) -> dict[str, list[str]]:
