@@ -420,3 +420,33 @@ def test_a_mesh_body_s_kind_names_its_girth_extrema_in_height_order():
         "D": 0.45,
         "girth_max_5": 0.6,
     }
+
+
+def test_the_3d_garment_shows_every_stride_th_node_in_its_own_colour(tmp_path, monkeypatch):
+    """A 192 x 96 tube drawn in 3D (`plot_garment_3d`) shows every second row and column
+    (96 x 48 nodes, the most it draws), each dot at its node's position and coloured by that
+    node's value: here its row x 1000 + its column, so a dot names the node it stands for."""
+    from mpl_toolkits.mplot3d import Axes3D
+
+    from cloth.figures.plots import plot_garment_3d
+
+    n, m = 192, 96
+    row, col = np.meshgrid(np.arange(m), np.arange(n), indexing="ij")
+    angle = 2 * np.pi * col / n
+    x = np.stack([0.1 * np.cos(angle), 0.1 * np.sin(angle), 0.01 * row], axis=-1).reshape(-1, 3)
+    values = (1000.0 * row + col).ravel()
+    seen = []
+    original = Axes3D.scatter
+
+    def spy(self, xs, ys, zs, *args, **kwargs):
+        seen.append((np.asarray(xs), np.asarray(ys), np.asarray(zs), np.asarray(kwargs["c"])))
+        return original(self, xs, ys, zs, *args, **kwargs)
+
+    monkeypatch.setattr(Axes3D, "scatter", spy)
+    plot_garment_3d(x, n, m, values, "value [1]", tmp_path / "g.png")
+    ((xs, ys, zs, colours),) = seen
+    rows = np.rint(zs / 0.01).astype(int)
+    cols = np.rint(np.mod(np.arctan2(ys, xs), 2 * np.pi) * n / (2 * np.pi)).astype(int) % n
+    np.testing.assert_array_equal(colours, 1000.0 * rows + cols)
+    assert sorted(set(rows)) == list(range(0, m, 2)) and sorted(set(cols)) == list(range(0, n, 2))
+    assert len(colours) == 48 * 96
