@@ -323,7 +323,7 @@ def _solve_step(
     slope is NaN where the matrix is singular. ``factorise``: `cloth.solvers.linear.solve`'s.
     ``factor`` (a list) gets SuperLU's factor of ``matrix`` itself where the solve made one."""
     try:
-        dx = solve(matrix, rhs, solver, reuse, factorise, factor).reshape(-1, 3)
+        dx = solve(matrix, rhs, solver, reuse, factorise, factor, projector).reshape(-1, 3)
     except RuntimeError:  # SuperLU: "factor is exactly singular"
         return np.zeros((len(rhs) // 3, 3)), float("nan")
     dx = np.einsum("nij,nj->ni", projector, dx)

@@ -29,6 +29,7 @@ from cloth.solvers.cholesky import CholeskyFactor
 from cloth.solvers.linear import PermutedLU, lu_factor, spd_factor
 from cloth.solvers.newton import newton_matrix, stiffness_at
 from cloth.solvers.problem import Evaluation, Problem
+from cloth.solvers.reduced import ReducedFactor
 
 
 def negative_eigenvalues(matrix: sp.spmatrix) -> int:
@@ -51,7 +52,10 @@ def factor_inertia(factor) -> int:
     """The negative eigenvalues of the symmetric matrix SuperLU's unpivoted ``factor``
     (`cloth.solvers.linear.lu_factor`) is of: its negative pivots (module docstring); none for a
     Cholesky factor (`cloth.solvers.cholesky.CholeskyFactor`: its matrix is positive definite).
-    ValueError where SuperLU pivoted rows after all."""
+    ValueError where SuperLU pivoted rows after all. A reduced factor
+    (`cloth.solvers.reduced.ReducedFactor`) has its inner factor's: what it drops is positive."""
+    if isinstance(factor, ReducedFactor):
+        return factor_inertia(factor.inner)
     if isinstance(factor, CholeskyFactor):
         return 0
     lu = _unpivoted(factor)
@@ -70,7 +74,11 @@ def negative_direction(factor, size: int) -> NDArray[np.float64] | None:
     L D L^T (the factor's U is D L^T), the vectors y_i with L^T y_i = e_i for the negative
     pivots d_i are A-conjugate with y_i^T (P A P^T) y_i = d_i, so their sum, mapped back by P,
     has curvature sum_i d_i < 0 and spans every unstable mode at once. One solve with the
-    factor gives it: A^-1 P^T L (sum_i d_i e_i) = P^T sum_i y_i."""
+    factor gives it: A^-1 P^T L (sum_i d_i e_i) = P^T sum_i y_i. A reduced factor's is its
+    inner factor's, lifted to every unknown."""
+    if isinstance(factor, ReducedFactor):
+        inner = negative_direction(factor.inner, factor.basis.size)
+        return None if inner is None else factor.lift(inner)
     if isinstance(factor, CholeskyFactor):
         return None
     lu = _unpivoted(factor)
@@ -110,16 +118,21 @@ def unstable_modes(problem: Problem, ev: Evaluation) -> int:
             "unstable_modes takes a smooth body without tissue or friction (faceted contact and "
             "the skin models change the constrained Hessian)"
         )
-    matrix = exact_matrix(problem, ev)
+    matrix, projector = exact_system(problem, ev)
     if problem.grid.convex:  # the tension field: a Cholesky factor, where there is one, says 0
-        return factor_inertia(spd_factor(matrix))
+        return factor_inertia(spd_factor(matrix, projector))
     return negative_eigenvalues(matrix)
 
 
 def exact_matrix(problem: Problem, ev: Evaluation) -> sp.csr_matrix:
     """The exact constrained Newton matrix at ``ev`` ((3N, 3N), N/m): the one whose negative
     eigenvalues are the unstable modes (module docstring)."""
+    return exact_system(problem, ev)[0]
+
+
+def exact_system(problem: Problem, ev: Evaluation) -> tuple[sp.csr_matrix, NDArray[np.float64]]:
+    """`exact_matrix` and the projector blocks ((N, 3, 3)) of the moves it is built on."""
     k = stiffness_at(problem, ev)
     held = held_nodes(problem, ev, k)
     projector, _ = problem.basis(ev.x, ev.normal, held)
-    return newton_matrix(problem, ev, held, projector, k(False))
+    return newton_matrix(problem, ev, held, projector, k(False)), projector
