@@ -391,6 +391,20 @@ BUGS = [
         "shared_ranges([ds])",
         "tests/test_results.py -k colour_ranges",
     ),
+    Bug(
+        "a case's figures ignoring the sweep's colour-range file",
+        "cloth/stages/results.py",
+        "shared_stress, shared_pressure = read_ranges(ranges)",
+        "shared_stress, shared_pressure = shared_ranges([ds])",
+        "tests/test_results.py -k colour_ranges",
+    ),
+    Bug(
+        "a sweep's colour ranges from its first result alone",
+        "cloth/figures/ranges.py",
+        'read_fields(p, "result", RANGE_FIELDS) for p in results]',
+        'read_fields(p, "result", RANGE_FIELDS) for p in results[:1]]',
+        "tests/test_results.py -k colour_ranges",
+    ),
 ]
 
 

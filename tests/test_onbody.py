@@ -13,11 +13,10 @@ from cloth.figures.onbody import (
     FIELDS,
     VIEWS,
     body_figure,
-    field_range,
-    shared_ranges,
     visible_quads,
 )
 from cloth.figures.plots import FIGURES
+from cloth.figures.ranges import field_range, shared_ranges
 from cloth.results.pressure import MMHG
 from cloth.stages import aggregate
 from cloth.stages.case import initial_state

@@ -268,6 +268,87 @@ def test_a_case_s_figures_share_their_colour_ranges_with_its_peers(cylinder, tmp
     assert limits[2][1] > 2.0 * float(np.nanmax(ds["pressure_mmHg"].values))  # the peer's
 
 
+def test_a_sweep_s_colour_ranges_are_read_once_into_a_file_its_figures_take(
+    cylinder, tmp_path, monkeypatch
+):
+    """`cloth ranges` (the pipeline's colour_ranges rule) writes the 1st to 99th percentile of
+    every node of every result once, and `cloth plot --ranges` colours the maps by it: here two
+    results, the cylinder and a copy with its stresses doubled and its pressure tripled, so
+    that the copy sets the upper ends; each case's figures get the same ranges (before, each
+    counted its own result twice)."""
+    import json
+
+    import matplotlib.axes
+
+    from cloth.cli import main
+
+    _, ds, _ = cylinder
+    result = write_netcdf(ds, tmp_path / "result.nc")
+    peer = ds.assign(
+        stress_weft=2.0 * ds["stress_weft"],
+        stress_warp=2.0 * ds["stress_warp"],
+        pressure_mmHg=3.0 * ds["pressure_mmHg"],
+    )
+    peer_path = write_netcdf(peer, tmp_path / "peer.nc")
+    ranges = tmp_path / "colour_ranges.json"
+    assert main(["ranges", str(result), str(peer_path), "-o", str(ranges)]) == 0
+
+    def expected(name):
+        values = np.concatenate([np.ravel(ds[name].values), np.ravel(peer[name].values)])
+        low, high = np.percentile(values[np.isfinite(values)], [1, 99])
+        return min(0.0, low), high
+
+    weft, warp = expected("stress_weft"), expected("stress_warp")
+    stress = (min(weft[0], warp[0]), max(weft[1], warp[1]))
+    record = json.loads(ranges.read_text())
+    np.testing.assert_allclose(record["stress_Pa"], stress, rtol=1e-12)
+    np.testing.assert_allclose(record["pressure_mmHg"], expected("pressure_mmHg"), rtol=1e-12)
+    assert record["results"] == [str(result), str(peer_path)]
+    limits = []
+    original = matplotlib.axes.Axes.pcolormesh
+
+    def spy(self, *args, **kwargs):
+        if len(args) == 3 and np.shape(args[2]) == ds["u"].shape:  # maps, not colour bars
+            limits.append((kwargs["vmin"], kwargs["vmax"]))
+        return original(self, *args, **kwargs)
+
+    monkeypatch.setattr(matplotlib.axes.Axes, "pcolormesh", spy)
+    for case in (result, peer_path):  # the same ranges for each
+        out = tmp_path / f"figures_{case.stem}"
+        assert main(["plot", str(case), "--ranges", str(ranges), "-o", str(out)]) == 0
+    assert len(limits) == 6
+    for low_high in limits[0:2] + limits[3:5]:
+        np.testing.assert_allclose(low_high, stress, rtol=1e-12)
+    for low_high in (limits[2], limits[5]):
+        np.testing.assert_allclose(low_high, expected("pressure_mmHg"), rtol=1e-12)
+
+
+@pytest.mark.parametrize(
+    ("text", "field"),
+    [
+        ("{not json", None),
+        ('{"stress_Pa": [0, 1]}', "pressure_mmHg"),
+        ('{"stress_Pa": [2, 1], "pressure_mmHg": [0, 1]}', "stress_Pa"),
+        ('{"stress_Pa": [0, "1"], "pressure_mmHg": [0, 1]}', "stress_Pa"),
+    ],
+    ids=["not-json", "missing", "reversed", "not-a-number"],
+)
+def test_a_bad_colour_range_file_is_one_line_naming_the_file_and_exit_2(
+    cylinder, tmp_path, capsys, text, field
+):
+    from cloth.cli import main
+
+    _, ds, _ = cylinder
+    result = write_netcdf(ds, tmp_path / "result.nc")
+    ranges = tmp_path / "ranges.json"
+    ranges.write_text(text)
+    assert main(["plot", str(result), "--ranges", str(ranges), "-o", str(tmp_path / "f")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "ranges.json" in err[0] and "Traceback" not in err[0]
+    assert field is None or field in err[0]
+    assert not (tmp_path / "f").exists() or not any((tmp_path / "f").iterdir())
+
+
 @pytest.mark.slow  # a scan relaxed (8 s; make test-slow)
 def test_landmarks_of_a_scan_come_from_the_girth_profile(tmp_path):
     from cloth.bodies.torso import chart_size, torso_mesh

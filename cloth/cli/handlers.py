@@ -220,7 +220,23 @@ def aggregate(args: argparse.Namespace) -> int:
 def plot(args: argparse.Namespace) -> int:
     from cloth.stages import figures
 
-    figures(args.result, args.output, args.peers, args.stress_range, args.pressure_range)
+    figures(
+        args.result, args.output, args.peers, args.stress_range, args.pressure_range, args.ranges
+    )
+    return 0
+
+
+def ranges(args: argparse.Namespace) -> int:
+    from cloth.figures.ranges import write_ranges
+
+    stress, pressure = write_ranges(args.results, args.output)
+    log.info(
+        "colour ranges of %d results: stress %.4g-%.4g Pa, pressure %.4g-%.4g mmHg -> %s",
+        len(args.results),
+        *stress,
+        *pressure,
+        args.output,
+    )
     return 0
 
 

@@ -367,7 +367,24 @@ def build_parser() -> argparse.ArgumentParser:
         help="result.nc files (a sweep's) whose values set the colour ranges not given, so "
         "that the figures of a sweep compare (default: this result's own range)",
     )
+    plot.add_argument(
+        "--ranges",
+        type=_path,
+        metavar="JSON",
+        help="colour-range file from cloth ranges (a sweep's): its ranges for those not "
+        "given, in place of --peers",
+    )
     plot.set_defaults(handler="plot", output_folder=True)
+
+    ranges = commands.add_parser(
+        "ranges",
+        help="result.nc files -> the colour ranges their figures share (JSON)",
+        description="The stress (Pa) and pressure (mmHg) colour ranges shared by a sweep's "
+        "results, read once for cloth plot --ranges (docs/outputs.md).",
+    )
+    ranges.add_argument("results", type=_path, nargs="+", help="result.nc files of a sweep")
+    ranges.add_argument("-o", "--output", type=_path, required=True, help="JSON file to write")
+    ranges.set_defaults(handler="ranges")
 
     view = commands.add_parser(
         "view", help="result.nc -> one self-contained HTML page: body and garment in 3D"

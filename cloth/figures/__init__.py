@@ -4,5 +4,6 @@
 * `cloth.figures.onbody`: the garment on the body from three sides;
 * `cloth.figures.view`: the interactive HTML view;
 * `cloth.figures.export`: PLY, VTU and CSV export;
-* `cloth.figures.drawing`: the body a result records, as triangles to draw.
+* `cloth.figures.drawing`: the body a result records, as triangles to draw;
+* `cloth.figures.ranges`: the colour ranges a sweep's figures share, read once for it.
 """

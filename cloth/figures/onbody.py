@@ -33,6 +33,7 @@ from numpy.typing import NDArray
 
 from cloth.figures.drawing import body_band, garment_positions
 from cloth.figures.plots import save_figure
+from cloth.figures.ranges import field_range
 
 log = logging.getLogger(__name__)
 
@@ -61,25 +62,6 @@ ZOOM = 1.25
 PANEL_HEIGHT = 5.0
 #: Share of a tall panel's height its zoomed box may take (`_tallness`).
 TALL_FILL = 0.82
-
-
-def field_range(datasets: Sequence[xr.Dataset], variable: str, scale: float = 1.0):
-    """(low, high) colour range of ``variable`` x ``scale`` over ``datasets`` (a sweep's
-    results): 0 or the 1st percentile, to the 99th percentile, of every node of every one."""
-    values = np.concatenate([np.ravel(ds[variable].values) * scale for ds in datasets])
-    values = values[np.isfinite(values)]
-    if not values.size:
-        return 0.0, 1.0
-    low, high = np.percentile(values, [1, 99])
-    low = min(0.0, float(low))
-    return low, max(float(high), low + 1e-9)
-
-
-def shared_ranges(datasets: Sequence[xr.Dataset]):
-    """Colour ranges shared by ``datasets`` (a sweep's results, in any order): stress (Pa,
-    weft and warp on one scale) and pressure (mmHg), by `field_range`."""
-    weft, warp = (field_range(datasets, f"stress_{d}") for d in ("weft", "warp"))
-    return (min(weft[0], warp[0]), max(weft[1], warp[1])), field_range(datasets, "pressure_mmHg")
 
 
 def _quads(points: NDArray, values: NDArray, closed: bool):

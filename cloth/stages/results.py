@@ -12,6 +12,7 @@ import numpy as np
 import xarray as xr
 
 from cloth.figures.drawing import body_band  # no matplotlib: a view draws with plotly
+from cloth.figures.ranges import RANGE_FIELDS, read_ranges, shared_ranges
 from cloth.files import levels
 from cloth.files.body import body_from_record
 from cloth.files.result import (
@@ -34,10 +35,6 @@ from cloth.solvers.problem import Evaluation, Problem
 from cloth.solvers.stability import unstable_modes
 
 log = logging.getLogger(__name__)
-
-#: The variables of a sweep's results that set a case's figure colour ranges
-#: (`cloth.figures.onbody.shared_ranges`): all a figure job reads of its peers.
-RANGE_FIELDS = ("stress_weft", "stress_warp", "pressure_mmHg")
 
 
 def aggregate(relaxed_path: str | Path) -> tuple[xr.Dataset, list]:
@@ -198,18 +195,23 @@ def figures(
     peers: list[str | Path] | tuple = (),
     stress_range: tuple[float, float] | None = None,
     pressure_range: tuple[float, float] | None = None,
+    ranges: str | Path | None = None,
 ) -> list[Path]:
     """result.nc -> every figure of `cloth.figures.plots.FIGURES` in ``folder``: the flat maps, the
     profiles and the garment on the body. Colour ranges: ``stress_range`` (Pa) and
-    ``pressure_range`` (mmHg) where given, else the range over ``peers`` (the result files of
-    the case's sweep, so that its figures compare) and the result itself."""
+    ``pressure_range`` (mmHg) where given, else those of the colour-range file ``ranges`` (its
+    sweep's, `cloth.figures.ranges`: the pipeline's), else the range over ``peers`` (the result
+    files of the case's sweep, so that its figures compare) and the result itself."""
     # matplotlib takes ~0.4 s to import, which relax and aggregate need not pay: imported here
     from cloth.figures import onbody  # late: matplotlib (above)
     from cloth.figures.plots import plot_result  # late: matplotlib (above)
 
     ds = read_netcdf(result_path, "result", ("stress_weft", "pressure", "u", "v"))
-    others = [read_fields(p, "result", RANGE_FIELDS) for p in peers]
-    shared_stress, shared_pressure = onbody.shared_ranges([ds, *others])
+    if ranges is not None:
+        shared_stress, shared_pressure = read_ranges(ranges)
+    else:
+        others = [read_fields(p, "result", RANGE_FIELDS) for p in peers]
+        shared_stress, shared_pressure = shared_ranges([ds, *others])
     stress_range = stress_range or shared_stress
     pressure_range = pressure_range or shared_pressure
     paths = plot_result(ds, folder, stress_range, pressure_range)

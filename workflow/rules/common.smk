@@ -125,12 +125,22 @@ def sweep_results(wildcards):
     return PLAN.sweep_results()
 
 
-def figure_peers(wildcards):
-    """The results whose values set a case's figure colour ranges: its sweep's (all of them,
-    so that the sweep's figures compare), or none for a case outside the sweep."""
-    if wildcards.case not in SWEEP_BLOCKS:
-        return []
+def sweep_case_results(wildcards=None):
+    """The sweep's results, whose values set its figures' colour ranges (all of them, so that
+    the sweep's figures compare)."""
     return [case_file("result.nc", case) for case in sorted(SWEEP_BLOCKS)]
+
+
+def figure_ranges(wildcards):
+    """A case's colour-range file: its sweep's (cloth.figures.ranges), or none for a case
+    outside the sweep (its figures take its own ranges)."""
+    return [sweep_file("colour_ranges.json")] if wildcards.case in SWEEP_BLOCKS else []
+
+
+def ranges_option(wildcards, input):
+    """``--ranges FILE`` for ``cloth plot`` where the case has a colour-range file."""
+    files = [input.ranges] if isinstance(input.ranges, str) else list(input.ranges)
+    return " ".join(f"--ranges {shlex.quote(str(f))}" for f in files)
 
 
 def confirmation_results(wildcards):
