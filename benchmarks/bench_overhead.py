@@ -2,7 +2,9 @@
 each rule's command as that revision's workflow runs it (predeform, aggregate, figures with its
 sweep's results as peers, view), on one case of a finished ``make run``, timed as a process
 (imports included), ``--repeat`` times alternating between the revisions; prints the median of
-each rule at each revision and their ratio.
+each rule at each revision and their ratio. A revision whose figures take the sweep's
+colour-range file (``cloth plot --ranges``) has it written first by its ``cloth ranges``, timed
+on its own row (once a sweep, not once a case).
 
     .venv/bin/python benchmarks/bench_overhead.py BEFORE AFTER [--repeat 3]
         [--results results] [--case powernet__torso_M__r150]
@@ -16,6 +18,7 @@ its sweep's results (the peers: every ``cases/*/result.nc`` but the design's) co
 from __future__ import annotations
 
 import argparse
+import math
 import os
 import shutil
 import statistics
@@ -28,15 +31,21 @@ from pathlib import Path
 from make_run_time import clone
 
 ROOT = Path(__file__).resolve().parents[1]
-RULES = ("predeform", "aggregate", "figures", "view")
+RULES = ("predeform", "aggregate", "colour_ranges", "figures", "view")
 
 
 def commands(folder: Path, case: Path, peers: list[Path], out: Path) -> dict[str, list[str]]:
     """Each rule's command as the revision in ``folder`` runs it (its predeform drew
-    initial.png where its rule passes ``--plot``)."""
-    plots = "--plot" in (folder / "workflow" / "rules" / "predeform.smk").read_text()
+    initial.png where its rule passes ``--plot``; its figures read the peers, or the
+    colour-range file its ``colour_ranges`` rule writes from them)."""
+    rules = folder / "workflow" / "rules"
+    plots = "--plot" in (rules / "predeform.smk").read_text()
+    ranges = "--ranges" in (rules / "figures.smk").read_text()
     cloth = str(ROOT / ".venv" / "bin" / "cloth")
-    return {
+    colour = out / "colour_ranges.json"
+    figures = [cloth, "plot", str(case / "result.nc")]
+    figures += ["--ranges", str(colour)] if ranges else ["--peers", *[str(p) for p in peers]]
+    found = {
         "predeform": [cloth, "predeform", str(case / "case.yaml"), "-o", str(out / "initial.nc")]
         + (["--plot", str(out / "initial.png")] if plots else []),
         "aggregate": [
@@ -48,11 +57,13 @@ def commands(folder: Path, case: Path, peers: list[Path], out: Path) -> dict[str
             "--summary",
             str(out / "summary.csv"),
         ],
-        "figures": [cloth, "plot", str(case / "result.nc"), "--peers"]
-        + [str(p) for p in peers]
-        + ["-o", str(out / "figures")],
+        "colour_ranges": [cloth, "ranges", *[str(p) for p in peers], "-o", str(colour)],
+        "figures": [*figures, "-o", str(out / "figures")],
         "view": [cloth, "view", str(case / "result.nc"), "-o", str(out / "garment.html")],
     }
+    if not ranges:
+        del found["colour_ranges"]
+    return found
 
 
 def timed(command: list[str], folder: Path) -> float:
@@ -98,7 +109,7 @@ def main() -> None:
     print(f"\n| rule | {before} [s] | {after} [s] | after / before |")
     print("|---|---|---|---|")
     for rule in RULES:
-        a, b = (statistics.median(times[(r, rule)]) for r in (before, after))
+        a, b = (statistics.median(times.get((r, rule), [math.nan])) for r in (before, after))
         print(f"| {rule} | {a:.2f} | {b:.2f} | {b / a:.2f} |")
     print(f"\nmedians of {args.repeat} runs each, {len(peers)} peers")
 
