@@ -40,7 +40,7 @@ def commands(folder: Path, case: Path, peers: list[Path], out: Path) -> dict[str
     colour-range file its ``colour_ranges`` rule writes from them)."""
     rules = folder / "workflow" / "rules"
     plots = "--plot" in (rules / "predeform.smk").read_text()
-    ranges = "--ranges" in (rules / "figures.smk").read_text()
+    ranges = "rule colour_ranges" in (rules / "figures.smk").read_text()
     cloth = str(ROOT / ".venv" / "bin" / "cloth")
     colour = out / "colour_ranges.json"
     figures = [cloth, "plot", str(case / "result.nc")]
