@@ -12,27 +12,26 @@ from __future__ import annotations
 
 import argparse
 import logging
-import tempfile
-import time
-from pathlib import Path
 
 import xarray as xr
-import yaml
+from _case import case_result
 
 from cloth.results.pressure import MMHG
-from cloth.stages.case import run_case
 
-ROOT = Path(__file__).resolve().parents[1]
 PATHS = {
     "plain": {"method": "newton", "continuation": False, "reuse": False},
     "continuation+reuse": {"method": "newton", "continuation": True, "reuse": True},
 }
 
 
-def run(grid: tuple[int, int], solver: dict, estimate: bool) -> tuple[xr.Dataset, float]:
+def run(
+    grid: tuple[int, int], solver: dict, estimate: bool, body: dict | None = None
+) -> tuple[xr.Dataset, float]:
+    """The stocking on ``body`` (the parametric leg M by default) on ``grid``: its result and
+    the seconds of predeform, relax (with the estimate's levels where ``estimate``), aggregate."""
     case = {
         "material": "powernet",
-        "body": {"leg": {"size": "M"}},
+        "body": body or {"leg": {"size": "M"}},
         "solver": solver,
         "garment": {
             "bottom": 0.09,
@@ -43,13 +42,7 @@ def run(grid: tuple[int, int], solver: dict, estimate: bool) -> tuple[xr.Dataset
             "error_estimate": estimate,
         },
     }
-    with tempfile.TemporaryDirectory() as tmp:
-        path = Path(tmp) / "case.yaml"
-        path.write_text(yaml.safe_dump(case))
-        start = time.perf_counter()
-        run_case(path, Path(tmp) / "out", {}, ROOT, stop_after="aggregate")
-        seconds = time.perf_counter() - start  # predeform, relax (with levels), aggregate
-        return xr.load_dataset(Path(tmp) / "out" / "result.nc"), seconds
+    return case_result(case)
 
 
 def main() -> None:

@@ -13,17 +13,11 @@ from __future__ import annotations
 
 import argparse
 import logging
-import tempfile
-import time
-from pathlib import Path
 
-import xarray as xr
-import yaml
+from _case import case_result
 
 from cloth.results.pressure import MMHG
-from cloth.stages.case import run_case
 
-ROOT = Path(__file__).resolve().parents[1]
 REFERENCE = (384, 192)
 BODIES = {"torso_M": {"torso": {"size": "M"}}, "avatar_M": {"avatar": {"size": "M"}}}
 
@@ -41,13 +35,7 @@ def result(body: dict, lengthwise: float, grid: tuple[int, int], estimate: bool)
             "error_estimate": estimate,
         },
     }
-    with tempfile.TemporaryDirectory() as tmp:
-        path = Path(tmp) / "case.yaml"
-        path.write_text(yaml.safe_dump(case))
-        start = time.perf_counter()
-        run_case(path, Path(tmp) / "out", {}, ROOT, stop_after="aggregate")
-        seconds = time.perf_counter() - start
-        return xr.load_dataset(Path(tmp) / "out" / "result.nc"), seconds
+    return case_result(case)
 
 
 def main() -> None:

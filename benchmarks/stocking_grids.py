@@ -3,7 +3,7 @@ with its band mean and stated error, flagged where the error is over max(1 %, 0.
 the time of one case (predeform, relax with the estimate's levels, aggregate).
 
 The stocking of config/stocking.yaml (power net, reduction 0.16, lengthwise reduction 0.15,
-0.09-0.77 m, sliding edges) on one body, on each of ``--grids``. Run:
+0.09-0.77 m, sliding edges: `bench_stocking.run`) on one body, on each of ``--grids``. Run:
 
     .venv/bin/python benchmarks/stocking_grids.py [--body leg|avatar] [--size M]
         [--grids 32x48 64x192 96x288]
@@ -13,17 +13,11 @@ from __future__ import annotations
 
 import argparse
 import logging
-import tempfile
-import time
-from pathlib import Path
 
-import xarray as xr
-import yaml
+from bench_stocking import run
 
 from cloth.results.pressure import MMHG
-from cloth.stages.case import run_case
 
-ROOT = Path(__file__).resolve().parents[1]
 #: The criterion: a stated error within this share of the value, or this many mmHg.
 SHARE, FLOOR = 0.01, 0.1
 
@@ -32,30 +26,6 @@ def body(kind: str, size: str) -> dict:
     if kind == "leg":
         return {"leg": {"size": size}}
     return {"avatar": {"chart": "data/bodies/leg_chart.csv", "size": size}}
-
-
-def run(block: dict, grid: tuple[int, int]) -> tuple[xr.Dataset, float]:
-    case = {
-        "material": "powernet",
-        "body": block,
-        "solver": {"method": "newton"},
-        "garment": {
-            "bottom": 0.09,
-            "top": 0.77,
-            "grid": list(grid),
-            "reduction": 0.16,
-            "lengthwise_reduction": 0.15,
-            "edges": "sliding",
-            "error_estimate": True,
-        },
-    }
-    with tempfile.TemporaryDirectory() as tmp:
-        path = Path(tmp) / "case.yaml"
-        path.write_text(yaml.safe_dump(case))
-        start = time.perf_counter()
-        run_case(path, Path(tmp) / "out", {}, ROOT, stop_after="aggregate")
-        seconds = time.perf_counter() - start
-        return xr.load_dataset(Path(tmp) / "out" / "result.nc"), seconds
 
 
 def main() -> None:
@@ -68,7 +38,7 @@ def main() -> None:
     lines = None
     for grid in args.grids:
         n, m = (int(v) for v in grid.split("x"))
-        ds, seconds = run(body(args.body, args.size), (n, m))
+        ds, seconds = run((n, m), {"method": "newton"}, True, body(args.body, args.size))
         if lines is None:
             lines = [str(v) for v in ds["landmark"].values]
             print(f"| grid | one case [s] | {' | '.join(lines)} | over the criterion |")

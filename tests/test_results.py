@@ -223,33 +223,44 @@ def test_plotted_arrays_are_the_datasets(cylinder, tmp_path, monkeypatch):
     np.testing.assert_array_equal(seen[2], ds["pressure_mmHg"].values)
 
 
+def _with_a_hotter_peer(ds, folder):
+    """``ds`` and a copy with its stresses doubled and its pressure tripled, written to
+    ``folder`` (result.nc, peer.nc): the copy sets the upper ends of any shared range."""
+    peer = ds.assign(
+        stress_weft=2.0 * ds["stress_weft"],
+        stress_warp=2.0 * ds["stress_warp"],
+        pressure_mmHg=3.0 * ds["pressure_mmHg"],
+    )
+    return write_netcdf(ds, folder / "result.nc"), peer, write_netcdf(peer, folder / "peer.nc")
+
+
+def _map_limits(monkeypatch, shape) -> list:
+    """The (vmin, vmax) of every flat map of ``shape`` drawn from now on (not colour bars)."""
+    import matplotlib.axes
+
+    limits = []
+    original = matplotlib.axes.Axes.pcolormesh
+
+    def spy(self, *args, **kwargs):
+        if len(args) == 3 and np.shape(args[2]) == shape:
+            limits.append((kwargs["vmin"], kwargs["vmax"]))
+        return original(self, *args, **kwargs)
+
+    monkeypatch.setattr(matplotlib.axes.Axes, "pcolormesh", spy)
+    return limits
+
+
 def test_a_case_s_figures_share_their_colour_ranges_with_its_peers(cylinder, tmp_path, monkeypatch):
     """`cloth plot --peers` (the pipeline's figures): the flat maps' colour ranges are the 1st
     to 99th percentile of every node of the result and its peers (from 0 where all are
     positive), the weft and the warp on one stress scale, the pressure in mmHg; read from the
     peers' files, here a copy of the cylinder with its stresses doubled and its pressure
     tripled (so that the peer, not the result, sets the upper ends)."""
-    import matplotlib.axes
-
     from cloth.stages.results import figures
 
     _, ds, _ = cylinder
-    result = write_netcdf(ds, tmp_path / "result.nc")
-    peer = ds.assign(
-        stress_weft=2.0 * ds["stress_weft"],
-        stress_warp=2.0 * ds["stress_warp"],
-        pressure_mmHg=3.0 * ds["pressure_mmHg"],
-    )
-    peer_path = write_netcdf(peer, tmp_path / "peer.nc")
-    limits = []
-    original = matplotlib.axes.Axes.pcolormesh
-
-    def spy(self, *args, **kwargs):
-        if len(args) == 3 and np.shape(args[2]) == ds["u"].shape:  # maps, not colour bars
-            limits.append((kwargs["vmin"], kwargs["vmax"]))
-        return original(self, *args, **kwargs)
-
-    monkeypatch.setattr(matplotlib.axes.Axes, "pcolormesh", spy)
+    result, peer, peer_path = _with_a_hotter_peer(ds, tmp_path)
+    limits = _map_limits(monkeypatch, ds["u"].shape)
     figures(result, tmp_path / "figures", peers=[peer_path])
 
     def expected(*arrays):
@@ -278,18 +289,10 @@ def test_a_sweep_s_colour_ranges_are_read_once_into_a_file_its_figures_take(
     counted its own result twice)."""
     import json
 
-    import matplotlib.axes
-
     from cloth.cli import main
 
     _, ds, _ = cylinder
-    result = write_netcdf(ds, tmp_path / "result.nc")
-    peer = ds.assign(
-        stress_weft=2.0 * ds["stress_weft"],
-        stress_warp=2.0 * ds["stress_warp"],
-        pressure_mmHg=3.0 * ds["pressure_mmHg"],
-    )
-    peer_path = write_netcdf(peer, tmp_path / "peer.nc")
+    result, peer, peer_path = _with_a_hotter_peer(ds, tmp_path)
     ranges = tmp_path / "colour_ranges.json"
     assert main(["ranges", str(result), str(peer_path), "-o", str(ranges)]) == 0
 
@@ -304,15 +307,7 @@ def test_a_sweep_s_colour_ranges_are_read_once_into_a_file_its_figures_take(
     np.testing.assert_allclose(record["stress_Pa"], stress, rtol=1e-12)
     np.testing.assert_allclose(record["pressure_mmHg"], expected("pressure_mmHg"), rtol=1e-12)
     assert record["results"] == [str(result), str(peer_path)]
-    limits = []
-    original = matplotlib.axes.Axes.pcolormesh
-
-    def spy(self, *args, **kwargs):
-        if len(args) == 3 and np.shape(args[2]) == ds["u"].shape:  # maps, not colour bars
-            limits.append((kwargs["vmin"], kwargs["vmax"]))
-        return original(self, *args, **kwargs)
-
-    monkeypatch.setattr(matplotlib.axes.Axes, "pcolormesh", spy)
+    limits = _map_limits(monkeypatch, ds["u"].shape)
     for case in (result, peer_path):  # the same ranges for each
         out = tmp_path / f"figures_{case.stem}"
         assert main(["plot", str(case), "--ranges", str(ranges), "-o", str(out)]) == 0
