@@ -102,17 +102,22 @@ def test_blocks_that_are_not_orthogonal_projectors_or_drop_nothing_are_not_reduc
 
 
 def test_a_reduced_factor_keeps_the_inertia_and_the_unstable_direction():
-    """An indefinite stiffness: Cholesky refuses the reduced matrix, SuperLU factorises it,
-    and its negative pivots are the whole matrix's negative eigenvalues (the dropped ones are
-    1 + mu); the lifted direction has negative curvature for the whole matrix."""
+    """An indefinite stiffness: a reduced factor whose inner factor is SuperLU's LU of
+    T^T M T has the whole matrix's negative eigenvalues as its negative pivots (the dropped
+    ones are 1 + mu), and its lifted direction has negative curvature for the whole matrix.
+    `spd_factor`, refused by Cholesky, factorises the whole matrix by LU, with the same count."""
     rng = np.random.default_rng(5)
     blocks = projectors(40, rng)
     matrix = newton(stiffness(40, rng, shift=150.0), blocks)
     negative = int(np.sum(np.linalg.eigvalsh(matrix.toarray()) < 0.0))
     assert negative > 0
     before = linear.lu_fallbacks()
-    factor = spd_factor(matrix, blocks)
-    assert isinstance(factor, ReducedFactor) and linear.lu_fallbacks() == before + 1
+    whole = spd_factor(matrix, blocks)
+    assert not isinstance(whole, ReducedFactor | CholeskyFactor)
+    assert linear.lu_fallbacks() == before + 1 and factor_inertia(whole) == negative
+    basis = reduction(blocks)
+    reduced, complement = basis.reduce(matrix)
+    factor = ReducedFactor(linear.lu_factor(reduced), basis, complement)
     assert factor_inertia(factor) == negative
     move = negative_direction(factor, 120)
     assert move.shape == (120,) and move @ (matrix @ move) < 0.0

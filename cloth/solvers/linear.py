@@ -397,15 +397,25 @@ def spd_factor(
     """cholespy's Cholesky factor of ``matrix`` (counted), or where it is not positive definite
     SuperLU's LU of it (`lu_factor`; both attempts counted, and the fallback in
     `lu_fallbacks`). Given the ``projector`` blocks ((N, 3, 3)) Newton's ``matrix`` was built
-    on, the factor is of the reduced matrix on the moves they allow, wrapped as a factor of
-    ``matrix`` (`cloth.solvers.reduced`: a third of the work where most nodes are held)."""
+    on, the Cholesky factor is of the reduced matrix on the moves they allow, wrapped as a
+    factor of ``matrix`` (`cloth.solvers.reduced`: a third of the work where most nodes are
+    held); the LU, where it is needed, is of the whole matrix."""
     global _factorisations, _lu_fallbacks
     _factorisations += 1
     basis = None if projector is None else reduction(projector)
-    if basis is not None:
-        reduced, complement = basis.reduce(matrix)
-        return ReducedFactor(_cholesky_or_lu(reduced), basis, complement)
-    return _cholesky_or_lu(matrix)
+    if basis is None:
+        return _cholesky_or_lu(matrix)
+    reduced, complement = basis.reduce(matrix)
+    try:
+        return ReducedFactor(cholesky_factor(reduced), basis, complement)
+    except NotPositiveDefinite:
+        # SuperLU factorises the whole matrix: its nested-dissection order is of the grid's
+        # nodes, kept per grid; the reduced matrix's would be of its unknowns, made afresh for
+        # each held set and worse (448 x 224: 2.3 s to order, 3.3 s to factorise, against
+        # 2.7 s for the whole matrix in its kept order)
+        _lu_fallbacks += 1
+        log.debug("the Newton matrix is not positive definite; SuperLU factorises it")
+        return lu_factor(matrix)
 
 
 def _cholesky_or_lu(matrix: sp.spmatrix) -> CholeskyFactor | object:
