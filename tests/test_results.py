@@ -325,8 +325,9 @@ def test_a_sweep_s_colour_ranges_are_read_once_into_a_file_its_figures_take(
         ('{"stress_Pa": [0, 1]}', "pressure_mmHg"),
         ('{"stress_Pa": [2, 1], "pressure_mmHg": [0, 1]}', "stress_Pa"),
         ('{"stress_Pa": [0, "1"], "pressure_mmHg": [0, 1]}', "stress_Pa"),
+        ('{"stress_Pa": [0, 1], "pressure_mmHg": [false, true]}', "pressure_mmHg"),
     ],
-    ids=["not-json", "missing", "reversed", "not-a-number"],
+    ids=["not-json", "missing", "reversed", "not-a-number", "booleans"],
 )
 def test_a_bad_colour_range_file_is_one_line_naming_the_file_and_exit_2(
     cylinder, tmp_path, capsys, text, field

@@ -68,6 +68,11 @@ def write_ranges(results: Sequence[str | Path], output: str | Path) -> tuple[Ran
     return stress, pressure
 
 
+def _number(value: object) -> bool:
+    """Whether a JSON value is a finite number (not a string, and not true or false)."""
+    return isinstance(value, int | float) and not isinstance(value, bool) and math.isfinite(value)
+
+
 def read_ranges(path: str | Path) -> tuple[Range, Range]:
     """(stress range in Pa, pressure range in mmHg) from a file `write_ranges` wrote; one
     `InputError` naming the file and the field where it is missing or malformed."""
@@ -82,7 +87,7 @@ def read_ranges(path: str | Path) -> tuple[Range, Range]:
     for key in ("stress_Pa", "pressure_mmHg"):
         pair = record.get(key) if isinstance(record, dict) else None
         ok = isinstance(pair, list) and len(pair) == 2
-        ok = ok and all(isinstance(v, int | float) and math.isfinite(v) for v in pair)
+        ok = ok and all(_number(v) for v in pair)
         if not ok or pair[0] >= pair[1]:
             raise InputError(
                 "expected [low, high], two finite numbers, low below high; rewrite the file "

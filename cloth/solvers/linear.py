@@ -400,7 +400,7 @@ def spd_factor(
     on, the Cholesky factor is of the reduced matrix on the moves they allow, wrapped as a
     factor of ``matrix`` (`cloth.solvers.reduced`: a third of the work where most nodes are
     held); the LU, where it is needed, is of the whole matrix."""
-    global _factorisations, _lu_fallbacks
+    global _factorisations
     _factorisations += 1
     basis = None if projector is None else reduction(projector)
     if basis is None:
@@ -413,20 +413,24 @@ def spd_factor(
         # nodes, kept per grid; the reduced matrix's would be of its unknowns, made afresh for
         # each held set and worse (448 x 224: 2.3 s to order, 3.3 s to factorise, against
         # 2.7 s for the whole matrix in its kept order)
-        _lu_fallbacks += 1
-        log.debug("the Newton matrix is not positive definite; SuperLU factorises it")
-        return lu_factor(matrix)
+        return _lu_instead(matrix)
 
 
 def _cholesky_or_lu(matrix: sp.spmatrix) -> CholeskyFactor | object:
     """cholespy's factor of ``matrix``, or SuperLU's where it is not positive definite."""
-    global _lu_fallbacks
     try:
         return cholesky_factor(matrix)
     except NotPositiveDefinite:
-        _lu_fallbacks += 1
-        log.debug("the Newton matrix is not positive definite; SuperLU factorises it")
-        return lu_factor(matrix)
+        return _lu_instead(matrix)
+
+
+def _lu_instead(matrix: sp.spmatrix):
+    """SuperLU's factor of ``matrix``, which Cholesky found not positive definite (counted in
+    `lu_fallbacks`)."""
+    global _lu_fallbacks
+    _lu_fallbacks += 1
+    log.debug("the Newton matrix is not positive definite; SuperLU factorises it")
+    return lu_factor(matrix)
 
 
 #: Unknowns from which SuperLU factorises in nested-dissection order; below, its own

@@ -125,12 +125,6 @@ def sweep_results(wildcards):
     return PLAN.sweep_results()
 
 
-def sweep_case_results(wildcards=None):
-    """The sweep's results, whose values set its figures' colour ranges (all of them, so that
-    the sweep's figures compare)."""
-    return [case_file("result.nc", case) for case in sorted(SWEEP_BLOCKS)]
-
-
 def figure_ranges(wildcards):
     """A case's colour-range file: its sweep's (cloth.figures.ranges), or none for a case
     outside the sweep (its figures take its own ranges)."""

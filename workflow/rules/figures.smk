@@ -6,7 +6,7 @@ from cloth.figures.plots import FIGURES
 
 rule colour_ranges:
     input:
-        sweep_case_results,
+        sweep_results,
     output:
         sweep_file("colour_ranges.json"),
     log:
