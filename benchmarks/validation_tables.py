@@ -131,7 +131,7 @@ def cone_table() -> str:
 
     from cloth.files.relaxed import relaxed_dataset
     from cloth.io import write_netcdf
-    from cloth.stages import aggregate
+    from cloth.stages.results import aggregate
 
     rows = []
     folder = Path(tempfile.mkdtemp(prefix="cloth-validation-"))

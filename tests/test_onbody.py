@@ -18,8 +18,8 @@ from cloth.figures.onbody import (
 from cloth.figures.plots import FIGURES
 from cloth.figures.ranges import field_range, shared_ranges
 from cloth.results.pressure import MMHG
-from cloth.stages import aggregate
 from cloth.stages.case import initial_state
+from cloth.stages.results import aggregate
 from tests.conftest import write_obj
 from tests.test_relax import solve
 from tests.test_results import relaxed_file

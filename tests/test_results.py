@@ -12,7 +12,7 @@ from cloth.garment.mechanics import spring_state
 from cloth.io import write_netcdf
 from cloth.results.fields import node_fields
 from cloth.results.pressure import MMHG, comfort_group, ral_class
-from cloth.stages import aggregate
+from cloth.stages.results import aggregate
 from tests.conftest import make_fabric
 from tests.test_relax import THICKNESS, solve, tube
 

@@ -14,7 +14,7 @@ import pytest
 from cloth.cli import main
 from cloth.figures.view import FIELDS, grid_triangles, view_figure
 from cloth.io import write_netcdf
-from cloth.stages import aggregate
+from cloth.stages.results import aggregate
 from tests.test_relax import solve, tube
 from tests.test_results import relaxed_file
 

@@ -211,14 +211,14 @@ def run(args: argparse.Namespace) -> int:
 
 
 def aggregate(args: argparse.Namespace) -> int:
-    from cloth.stages import write_result
+    from cloth.stages.results import write_result
 
     write_result(args.relaxed, args.output, args.summary)
     return 0
 
 
 def plot(args: argparse.Namespace) -> int:
-    from cloth.stages import figures
+    from cloth.stages.results import figures
 
     figures(
         args.result, args.output, args.peers, args.stress_range, args.pressure_range, args.ranges
@@ -241,7 +241,7 @@ def ranges(args: argparse.Namespace) -> int:
 
 
 def view(args: argparse.Namespace) -> int:
-    from cloth.stages import view
+    from cloth.stages.results import view
 
     view(args.result, args.output)
     return 0

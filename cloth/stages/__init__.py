@@ -18,8 +18,7 @@ design, confirm    `sweep.design_file`, `confirm_file`   sweep.nc -> design.csv 
 
 The body stages `cloth body check` and `cloth body fit` are `cloth.stages.bodycheck.describe` and
 `cloth.files.surface.load_or_fit`.
+
+Import a stage from its module: this package imports none of them, so that a rule's process
+imports what its one stage needs (predeform no drawing; issue 54's overhead).
 """
-
-from cloth.stages.results import aggregate, figures, view, write_result
-
-__all__ = ["aggregate", "figures", "view", "write_result"]

@@ -35,7 +35,6 @@ from cloth.solvers.problem import Problem
 from cloth.solvers.relax import Result
 from cloth.stages.cuts import case_cut
 from cloth.stages.levels import LEVELS, Level, refine, relax_levels
-from cloth.stages.results import figures, view, write_result
 
 log = logging.getLogger("cloth")
 
@@ -212,6 +211,8 @@ def run_case(
     relax_state(state, overrides, folder / "relaxed.nc", dict(initial.attrs))
     if stop_after == "relax":
         return
+    from cloth.stages.results import figures, view, write_result  # drawing: not for predeform
+
     result = write_result(folder / "relaxed.nc", folder / "result.nc", folder / "summary.csv")
     if stop_after == "aggregate":
         return
