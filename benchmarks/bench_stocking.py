@@ -25,10 +25,16 @@ PATHS = {
 
 
 def run(
-    grid: tuple[int, int], solver: dict, estimate: bool, body: dict | None = None
+    grid: tuple[int, int],
+    solver: dict,
+    estimate: bool,
+    body: dict | None = None,
+    level_ratio: float = 2.0,
+    row_grading: float = 0.0,
 ) -> tuple[xr.Dataset, float]:
     """The stocking on ``body`` (the parametric leg M by default) on ``grid``: its result and
-    the seconds of predeform, relax (with the estimate's levels where ``estimate``), aggregate."""
+    the seconds of predeform, relax (with the estimate's levels at ``level_ratio`` where
+    ``estimate``), aggregate; rows graded by ``row_grading``."""
     case = {
         "material": "powernet",
         "body": body or {"leg": {"size": "M"}},
@@ -40,6 +46,8 @@ def run(
             "reduction": 0.16,
             "lengthwise_reduction": 0.15,
             "error_estimate": estimate,
+            "level_ratio": level_ratio,
+            "row_grading": row_grading,
         },
     }
     return case_result(case)

@@ -6,7 +6,7 @@ net, 0.86-1.22 m) relaxed with the pipeline's error estimate on ``--grid`` and w
 0.1 mmHg); and the relax time of each case (predeform, relax with its levels, aggregate).
 
     .venv/bin/python benchmarks/edge_grid.py [--grid 288x144] [--bodies torso_M avatar_M]
-        [--lengthwise 0.0 0.10]
+        [--lengthwise 0.0 0.10] [--level-ratio 2] [--row-grading 0]
 """
 
 from __future__ import annotations
@@ -22,7 +22,14 @@ REFERENCE = (384, 192)
 BODIES = {"torso_M": {"torso": {"size": "M"}}, "avatar_M": {"avatar": {"size": "M"}}}
 
 
-def result(body: dict, lengthwise: float, grid: tuple[int, int], estimate: bool):
+def result(
+    body: dict,
+    lengthwise: float,
+    grid: tuple[int, int],
+    estimate: bool,
+    ratio: float = 2.0,
+    grading: float = 0.0,
+):
     case = {
         "material": "powernet",
         "body": body,
@@ -33,6 +40,8 @@ def result(body: dict, lengthwise: float, grid: tuple[int, int], estimate: bool)
             "lengthwise_reduction": lengthwise,
             "grid": list(grid),
             "error_estimate": estimate,
+            "level_ratio": ratio,
+            "row_grading": grading,
         },
     }
     return case_result(case)
@@ -43,6 +52,8 @@ def main() -> None:
     parser.add_argument("--grid", default="288x144")
     parser.add_argument("--bodies", nargs="+", default=list(BODIES), choices=list(BODIES))
     parser.add_argument("--lengthwise", nargs="+", type=float, default=[0.0, 0.10])
+    parser.add_argument("--level-ratio", type=float, default=2.0, help="garment.level_ratio")
+    parser.add_argument("--row-grading", type=float, default=0.0, help="garment.row_grading")
     args = parser.parse_args()
     logging.basicConfig(level=logging.ERROR)
     grid = tuple(int(v) for v in args.grid.split("x"))
@@ -54,7 +65,9 @@ def main() -> None:
     held = within = lines = 0
     for name in args.bodies:
         for lengthwise in args.lengthwise:
-            ds, seconds = result(BODIES[name], lengthwise, grid, True)
+            ds, seconds = result(
+                BODIES[name], lengthwise, grid, True, args.level_ratio, args.row_grading
+            )
             ref, _ = result(BODIES[name], lengthwise, REFERENCE, False)
             for k, line in enumerate(ds["landmark"].values):
                 value = float(ds["pressure_mean"].values[k])

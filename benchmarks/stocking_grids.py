@@ -6,7 +6,7 @@ The stocking of config/stocking.yaml (power net, reduction 0.16, lengthwise redu
 0.09-0.77 m, sliding edges: `bench_stocking.run`) on one body, on each of ``--grids``. Run:
 
     .venv/bin/python benchmarks/stocking_grids.py [--body leg|avatar] [--size M]
-        [--grids 32x48 64x192 96x288]
+        [--grids 32x48 64x192 96x288] [--level-ratio 2] [--row-grading 0]
 """
 
 from __future__ import annotations
@@ -33,12 +33,21 @@ def main() -> None:
     parser.add_argument("--body", choices=["leg", "avatar"], default="leg")
     parser.add_argument("--size", default="M")
     parser.add_argument("--grids", nargs="+", default=["32x48", "64x192", "96x288"])
+    parser.add_argument("--level-ratio", type=float, default=2.0, help="garment.level_ratio")
+    parser.add_argument("--row-grading", type=float, default=0.0, help="garment.row_grading")
     args = parser.parse_args()
     logging.basicConfig(level=logging.ERROR)
     lines = None
     for grid in args.grids:
         n, m = (int(v) for v in grid.split("x"))
-        ds, seconds = run((n, m), {"method": "newton"}, True, body(args.body, args.size))
+        ds, seconds = run(
+            (n, m),
+            {"method": "newton"},
+            True,
+            body(args.body, args.size),
+            args.level_ratio,
+            args.row_grading,
+        )
         if lines is None:
             lines = [str(v) for v in ds["landmark"].values]
             print(f"| grid | one case [s] | {' | '.join(lines)} | over the criterion |")

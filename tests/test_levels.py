@@ -65,6 +65,16 @@ def test_grids_halve_rounding_up_and_stop_at_the_smallest():
     assert coarser_grids((16, 6), 2) == [(8, 3)]  # 4 x 2 would be below 8 x 3
 
 
+def test_a_level_ratio_divides_the_grid_by_its_powers():
+    """garment.level_ratio r: level k is the grid / r^k, rounded up (96 / sqrt(2)^2 is 48, not
+    49, despite the float), and stops where a level would not be smaller than the one above."""
+    assert coarser_grids((96, 48), 2, 2**0.5) == [(68, 34), (48, 24)]
+    assert coarser_grids((288, 144), 2, 1.5) == [(192, 96), (128, 64)]
+    assert coarser_grids((12, 4), 2, 1.2) == []  # 10 x 4: the rows stay 4, no level
+    with pytest.raises(ValueError, match="exceed 1"):
+        coarser_grids((48, 24), 2, 1.0)
+
+
 def test_on_a_cone_the_stated_error_brackets_the_distance_to_a_finer_grid(cones):
     """The cone's 96 x 24 band values (levels 48 x 12 and 24 x 6) with their stated errors
     contain the converged value as the 192 x 48 grid extrapolates it; an order is observed on
@@ -223,9 +233,15 @@ def test_a_ring_meshs_vertical_sampling_is_its_ring_spacing():
     )
 
 
-def test_a_rerun_is_bit_identical(tmp_path):
+@pytest.mark.parametrize(
+    ("rows", "levels"),
+    [({}, [48, 24, 12]), ({"row_grading": 0.5, "level_ratio": 1.5}, [48, 32, 22])],
+    ids=["equal-rows", "graded-rows"],
+)
+def test_a_rerun_is_bit_identical(tmp_path, rows, levels):
     """The same case run twice (with its levels, continuation from 100 nodes and factor reuse,
-    so every path of the estimate runs) writes the same numbers to the last bit."""
+    so every path of the estimate runs; equally spaced rows and graded ones at another level
+    ratio) writes the same numbers to the last bit."""
     case = {
         "material": "powernet",
         "body": CONE,
@@ -236,11 +252,12 @@ def test_a_rerun_is_bit_identical(tmp_path):
             "reduction": 0.15,
             "lengthwise_reduction": 0.1,
             "grid": [48, 12],
+            **rows,
         },
         "solver": {"continuation": True, "coarsest": 100, "reuse": True},
     }
     first, second = (load_result(tmp_path / name, case) for name in ("one", "two"))
-    assert first["level_n"].values.tolist() == [48, 24, 12]
+    assert first["level_n"].values.tolist() == levels
     for name, variable in first.data_vars.items():
         assert np.array_equal(variable.values, second[name].values, equal_nan=True) or (
             variable.dtype.kind not in "fc" and (variable.values == second[name].values).all()

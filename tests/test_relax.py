@@ -20,7 +20,7 @@ from cloth.stages.case import initial_state
 THICKNESS = 0.55e-3  # the example fabric's
 
 
-def tube(body, reduction, n=64, m=6, around="weft"):
+def tube(body, reduction, n=64, m=6, around="weft", grading=0.0):
     case = {
         "material": "powernet",
         "body": body,
@@ -31,6 +31,7 @@ def tube(body, reduction, n=64, m=6, around="weft"):
             "grid": [n, m],
             "edges": "sliding",
             "around": around,
+            "row_grading": grading,
         },
     }
     return initial_state(case)
@@ -62,8 +63,16 @@ def hoop_tension(state, result):
 
 @pytest.mark.parametrize("radius", [0.05, 0.10, 0.15])
 @pytest.mark.parametrize("reduction", [0.1, 0.2, 0.3])
-def test_laplace_on_cylinders(radius, reduction):
-    state = tube({"cylinder": {"radius": radius, "bottom": 0.0, "top": 0.5}}, reduction)
+@pytest.mark.parametrize("grading", [0.0, 0.5])
+def test_laplace_on_cylinders(radius, reduction, grading):
+    """Laplace's law row by row, with equally spaced rows and with rows graded toward the
+    edges (their spacing from a third to the whole of the middle's: each node's area and its
+    weft springs' share of it change together, so the pressure does not)."""
+    cylinder = {"cylinder": {"radius": radius, "bottom": 0.0, "top": 0.5}}
+    state = tube(cylinder, reduction, m=12 if grading else 6, grading=grading)
+    if grading:
+        gaps = np.diff(state.grid.rest_uv[:: state.grid.n, 1])
+        assert gaps.max() / gaps.min() > 2.5  # graded indeed
     result = solve(state)
     assert result.converged
     tension = hoop_tension(state, result)

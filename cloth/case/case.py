@@ -87,6 +87,10 @@ class GarmentSpec:
     worn: bool = False
     set_strain: Mapping[str, float] = field(default_factory=lambda: MappingProxyType({}))
     error_estimate: bool = True
+    #: Rows graded toward both edges by this (`cloth.garment.rows`; 0: equally spaced).
+    row_grading: float = 0.0
+    #: n and m divided by this from each error-estimate level to the next (`cloth.stages.levels`).
+    level_ratio: float = 2.0
     #: ``pattern``: the block (`cloth.garment.cut`): ``body`` or ``file``, and ``place``.
     pattern: Mapping[str, Any] | None = None
 
@@ -142,6 +146,8 @@ class GarmentSpec:
             worn=bool(block.get("worn", False)),
             set_strain=MappingProxyType(dict(block.get("set_strain") or {})),
             error_estimate=bool(block.get("error_estimate", True)),
+            level_ratio=float(block.get("level_ratio", 2.0)),
+            row_grading=float(block.get("row_grading", 0.0)),
             pattern=None if block.get("pattern") is None else MappingProxyType(block["pattern"]),
             auto=auto,
             accuracy=float(block.get("accuracy", 0.01)),

@@ -1,7 +1,8 @@
 """Pre-deformation: cut a tube pattern and wrap it around the body (the paper's initial state).
 
-Pattern. A tube of n nodes around (the grid's weft) and m rows up, rows at equally spaced heights
-z_j from ``bottom`` to ``top``. Rest circumference of row j: (1 - r(z_j)) x the convex-hull
+Pattern. A tube of n nodes around (the grid's weft) and m rows up, rows at heights z_j from
+``bottom`` to ``top``, equally spaced or graded toward both edges (``garment.row_grading``,
+`cloth.garment.rows`). Rest circumference of row j: (1 - r(z_j)) x the convex-hull
 girth of the body at z_j (a graded pattern, how compression garments are cut; r the reduction,
 a number or a profile over height, `cloth.case.profile`), or a constant ``circumference`` (a
 rectangle). Warp rest length between rows j and j+1: (1 - lengthwise reduction at their
@@ -36,6 +37,7 @@ from cloth.case import Case
 from cloth.errors import InputError
 from cloth.garment.cut import NO_PLACEMENT, BodyCut, TableCut, cut_girths, placement
 from cloth.garment.grid import FIXED, FREE, SLIDING, WEFT, Grid, build_grid
+from cloth.garment.rows import row_heights
 from cloth.garment.state import State, grid_fabric
 from cloth.garment.worn import set_strains
 from cloth.materials.curves import Fabric
@@ -216,7 +218,7 @@ def predeform(
     if grid is None:
         grid = start_grid(body, garment.bottom, garment.top) if garment.auto else garment.grid
     n, m = grid
-    cut_heights = np.linspace(garment.bottom, garment.top, m)
+    cut_heights = row_heights(garment.bottom, garment.top, m, garment.row_grading)
     marks = {**body_record.get("landmarks", {}), **case.landmarks}
     if pattern is None:
         if garment.pattern is not None:

@@ -1,17 +1,20 @@
 """Grid levels: the case's garment relaxed again on coarser grids, for the error estimate.
 
 A case of n x m nodes (with ``garment.error_estimate``, the default) is relaxed on its own grid
-and on `LEVELS` (2) coarser ones, each halving n and m (rounded up: 48 x 24 -> 24 x 12 -> 12 x
-6), down to at least `MIN_AROUND` nodes around and `MIN_ROWS` rows. A level is the case itself
-with the coarser grid, pre-deformed on the same body and fabric and relaxed with the same
-settings: exactly what a user would get by asking for that grid. Each level's girth lines are
-summarised at the same heights as the fine grid's (`cloth.results.landmarks`), and
-`cloth.results.richardson` turns the three finest values into the reported value's order,
-extrapolation and error (`cloth.files.levels` writes them).
+and on `LEVELS` (2) coarser ones, the k-th with n and m divided by ``garment.level_ratio`` r to
+the k (rounded up; r = 2: 48 x 24 -> 24 x 12 -> 12 x 6), down to at least `MIN_AROUND` nodes
+around and `MIN_ROWS` rows. A ratio nearer 1 keeps the coarsest level nearer the finest, in the
+range where the error falls as h^2, at more time: the levels cost about r^-2 + r^-4 of the grid
+(0.31 at 2, 0.75 at 1.41); docs/validation.md measures both on the edge lines and the
+stocking. A level is the case itself with the coarser grid, pre-deformed on the same body and
+fabric and relaxed with the same settings: exactly what a user would get by asking for that
+grid. Each level's girth lines are summarised at the same heights as the fine grid's
+(`cloth.results.landmarks`), and `cloth.results.richardson` turns the three finest values into
+the reported value's order, extrapolation and error (`cloth.files.levels` writes them).
 
 Continuation's own levels are not these: they keep a subset of the fine grid's rows, unevenly
 spaced where m - 1 is odd (a pattern a user could not ask for), and are relaxed only to 1e-6.
-A level costs about a quarter of the grid above it, so two levels add about a third.
+At r = 2 a level costs about a quarter of the grid above it, so two levels add about a third.
 """
 
 from __future__ import annotations
@@ -40,6 +43,8 @@ log = logging.getLogger(__name__)
 LEVELS = 2
 #: Smallest level: nodes around and rows.
 MIN_AROUND, MIN_ROWS = 8, 3
+#: ``garment.level_ratio`` where the case gives none: n and m halved from level to level.
+DEFAULT_RATIO = 2.0
 
 
 @dataclass(frozen=True)
@@ -54,16 +59,24 @@ class Level:
     seconds: float
 
 
-def coarser_grids(grid: tuple[int, int], count: int) -> list[tuple[int, int]]:
-    """Up to ``count`` grids below ``grid`` (n, m), finest first, each halving n and m (rounded
-    up), none below `MIN_AROUND` x `MIN_ROWS`."""
-    n, m = grid
+def coarser_grids(
+    grid: tuple[int, int], count: int, ratio: float = DEFAULT_RATIO
+) -> list[tuple[int, int]]:
+    """Up to ``count`` grids below ``grid`` (n, m), finest first, the k-th with n and m divided
+    by ``ratio`` (> 1) to the k, rounded up (``ratio`` 2: halving); none below `MIN_AROUND` x
+    `MIN_ROWS`, and none that is not smaller than the one above in both n and m."""
+    if not ratio > 1.0:
+        raise ValueError(f"level ratio must exceed 1, got {ratio}")
     out: list[tuple[int, int]] = []
-    for _ in range(count):
-        n, m = -(-n // 2), -(-m // 2)
-        if n < MIN_AROUND or m < MIN_ROWS:
+    above = grid
+    for k in range(1, count + 1):
+        scale = ratio**k
+        # rounded to 1e-9 first: 96 / sqrt(2)^2 is 47.999999999999993, one level of 48 rows
+        n, m = (math.ceil(round(v / scale, 9)) for v in grid)
+        if n < MIN_AROUND or m < MIN_ROWS or n >= above[0] or m >= above[1]:
             break
         out.append((n, m))
+        above = (n, m)
     return out
 
 
@@ -115,16 +128,19 @@ def relax_level(
 def relax_levels(
     state: State, body: Body, settings: Settings, heights: dict[str, float], count: int
 ) -> list[Level]:
-    """The ``count`` coarser levels of ``state``'s grid (`coarser_grids`), finest first."""
-    grids = coarser_grids((state.grid.n, state.grid.m), count)
+    """The ``count`` coarser levels of ``state``'s grid (`coarser_grids` at the case's
+    ``garment.level_ratio``), finest first."""
+    ratio = state.case.garment.level_ratio
+    grids = coarser_grids((state.grid.n, state.grid.m), count, ratio)
     if count and len(grids) < count:
         log.warning(
-            "levels: a %d x %d grid has %d coarser level%s of at least %d x %d, not %d: no error "
-            "estimate",
+            "levels: a %d x %d grid has %d coarser level%s (level ratio %g) of at least %d x %d, "
+            "not %d: no error estimate",
             state.grid.n,
             state.grid.m,
             len(grids),
             "" if len(grids) == 1 else "s",
+            ratio,
             MIN_AROUND,
             MIN_ROWS,
             count,
