@@ -112,9 +112,9 @@ def test_the_result_lists_its_levels_with_units_and_the_summary_says_the_error(c
         assert row["error_note"] == ""
 
 
-def test_levels_that_do_not_converge_monotonically_give_no_error_number(tmp_path):
-    """relaxed.nc's middle level moved beyond the fine value: the summary says why, and no
-    number stands where the error would be."""
+def test_levels_that_neither_converge_nor_shrink_state_three_times_their_range(tmp_path):
+    """relaxed.nc's middle level moved beyond the fine value: the summary says so, and the
+    error is 3 x the range of the three levels' values (flag 7, data_range)."""
     out = _cone(tmp_path, [48, 12], stop="relax")
     with xr.open_dataset(out / "relaxed.nc") as ds:
         relaxed = ds.load()
@@ -126,12 +126,14 @@ def test_levels_that_do_not_converge_monotonically_give_no_error_number(tmp_path
         relaxed.assign(level_pressure_mean=(("level", "landmark"), zigzag)), out / "zigzag.nc"
     )
     result = write_result(out / "zigzag.nc", out / "result.nc", out / "summary.csv")
-    assert (result["pressure_mean_estimate"].values == 4).all()  # not_monotone
-    assert np.isnan(result["pressure_mean_error"].values).all()
+    assert (result["pressure_mean_estimate"].values == 7).all()  # data_range
+    spread = np.ptp(np.vstack([fine, zigzag]), axis=0)
+    np.testing.assert_allclose(result["pressure_mean_error"].values, 3 * spread, rtol=1e-12)
     with open(out / "summary.csv", newline="") as handle:
-        for row in csv.DictReader(handle):
-            assert row["error_note"] == "the levels do not converge monotonically"
-            assert math.isnan(float(row["pressure_mean_error_Pa"]))
+        rows = list(csv.DictReader(handle))
+    for row, stated in zip(rows, 3 * spread, strict=True):
+        assert row["error_note"].endswith("the error is 3 x their range")
+        assert float(row["pressure_mean_error_Pa"]) == pytest.approx(stated, rel=1e-5)
 
 
 def test_without_levels_the_result_says_the_error_was_not_estimated(tmp_path):

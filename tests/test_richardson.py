@@ -98,17 +98,34 @@ def test_on_a_cylinder_the_estimate_is_the_true_error_and_the_order_is_two():
 @pytest.mark.parametrize(
     ("levels", "reason"),
     [
-        ((2379.0, 2370.0, 2376.0), "monotonically"),  # the waist's old nearest-row sequence
-        ((2379.0, 2370.0, 2370.0), "same value"),  # the coarse pair equal: nothing shrinks
-        ((100.0, 110.0, 121.0), "outside"),  # order 0.14: the levels hardly converge
         ((100.0, math.nan, 110.0), "finite"),
+        ((100.0, 100.0, 100.0), "same value"),  # nothing to tell an error from
     ],
 )
-def test_levels_that_show_no_order_give_no_error_number(levels, reason):
+def test_levels_with_a_missing_value_or_all_equal_give_no_error_number(levels, reason):
     estimate = richardson(*levels)
     assert not estimate.observed and reason in estimate.reason
     assert math.isnan(estimate.error) and math.isnan(estimate.extrapolated)
-    assert math.isnan(estimate.relative_error)
+    assert math.isnan(estimate.uncertainty) and math.isnan(estimate.relative_error)
+
+
+@pytest.mark.parametrize(
+    ("levels", "spread"),
+    [
+        ((2379.0, 2370.0, 2376.0), 9.0),  # the waist's old nearest-row sequence: it turns
+        ((2379.0, 2370.0, 2370.0), 9.0),  # the coarse pair equal: nothing shrinks
+        ((100.0, 110.0, 121.0), 21.0),  # order 0.14: the levels hardly converge
+        ((100.0, 110.0, 100.0), 10.0),  # back and forth
+        ((100.0, 94.0, 105.0), 11.0),  # the finest difference more than half the coarser
+        ((1304.74, 1303.97, 1304.00), 0.77),  # the graded torso's underbust at 192 x 96
+    ],
+)
+def test_levels_that_neither_show_an_order_nor_shrink_state_three_times_their_range(levels, spread):
+    """Eca and Hoekstra's data-range rule: 3 x max |fi - fj|, flag 7, nothing extrapolated."""
+    estimate = richardson(*levels)
+    assert estimate.observed and estimate.code == 7 and "3 x their range" in estimate.reason
+    assert estimate.uncertainty == pytest.approx(3 * spread, rel=1e-9)
+    assert math.isnan(estimate.extrapolated) and math.isnan(estimate.error)
 
 
 @pytest.mark.parametrize(
@@ -131,12 +148,6 @@ def test_levels_that_converge_without_an_order_state_three_times_the_finest_diff
     assert estimate.relative_error == pytest.approx(stated / levels[0], rel=1e-12)
 
 
-def test_levels_that_do_not_shrink_stay_without_an_error():
-    """A finest difference more than half the coarser one, of either sign, is no convergence."""
-    for levels in ((100.0, 110.0, 100.0), (100.0, 94.0, 105.0)):
-        assert not richardson(*levels).observed
-
-
 def _power_law(order: float) -> tuple[float, float, float]:
     """f = 10 + 3 h^order on h = 0.25, 0.5, 1 (fine, middle, coarse)."""
     return tuple(10.0 + 3.0 * h**order for h in (0.25, 0.5, 1.0))
@@ -145,7 +156,7 @@ def _power_law(order: float) -> tuple[float, float, float]:
 @pytest.mark.parametrize(
     ("order", "code"),
     [
-        (0.49, 5),  # below the asymptotic range; its finest difference shrinks too little
+        (0.49, 7),  # below the asymptotic range; its finest difference shrinks too little
         (0.51, 0),
         (3.99, 0),
         (4.01, 6),  # above it: converged faster than any order, stated from the difference
@@ -174,10 +185,11 @@ def test_the_scheme_s_order_is_confirmed_within_ten_percent_of_two(order, safety
     assert estimate.uncertainty == pytest.approx(stated, rel=1e-9)
 
 
-@pytest.mark.parametrize(("share", "code"), [(0.49, 6), (0.5, 6), (0.51, 4)])
+@pytest.mark.parametrize(("share", "code"), [(0.49, 6), (0.5, 6), (0.51, 7)])
 def test_wobbling_levels_count_where_the_finest_difference_is_at_most_half_the_coarser(share, code):
-    """Levels that change direction state 3 x the finest difference only where it is at most
-    half the coarser difference (what a first-order scheme leaves when h halves)."""
+    """Levels that change direction state 3 x the finest difference where it is at most half
+    the coarser difference (what a first-order scheme leaves when h halves), else 3 x their
+    range."""
     far = 16.0
     levels = (100.0 - share * far, 100.0, 100.0 - far)  # near = -share x far: the other sign
     estimate = richardson(*levels)
@@ -185,7 +197,7 @@ def test_wobbling_levels_count_where_the_finest_difference_is_at_most_half_the_c
     if code == 6:
         assert estimate.uncertainty == pytest.approx(3 * max(share * far, far / 16), rel=1e-12)
     else:
-        assert not estimate.observed
+        assert estimate.uncertainty == pytest.approx(3 * far, rel=1e-12)  # f2 - f3: the range
 
 
 @pytest.mark.parametrize(("levels", "code"), [(3, 0), (2, 1)])
@@ -196,17 +208,15 @@ def test_an_estimate_needs_three_levels(levels, code):
 
 
 def test_an_estimate_keeps_its_value_and_says_why_it_has_no_order():
-    """A missing estimate still reports its value, with the reason (and the order observed
-    outside the range); an observed one has no reason and flag 0; one stated from the finest
-    difference has no error or extrapolation."""
+    """A missing estimate still reports its value, with the reason; one stated from the range
+    keeps the order observed outside the asymptotic range; an observed one has no reason and
+    flag 0; one stated from the finest difference has no error or extrapolation."""
     low = _power_law(0.3)
     estimate = richardson(*low)
-    assert estimate.reported == low[0] and estimate.code == 5 and not estimate.observed
+    assert estimate.reported == low[0] and estimate.code == 7 and estimate.observed
     assert estimate.order == pytest.approx(0.3, abs=1e-9)
-    assert (
-        estimate.reason == "the observed order is outside the asymptotic range: 0.3, not in 0.5-4"
-    )
-    for levels, code in (((100.0, math.nan, 110.0), 2), ((100.0, 110.0, 110.0), 3)):
+    assert estimate.uncertainty == pytest.approx(3 * (low[2] - low[0]), rel=1e-12)
+    for levels, code in (((100.0, math.nan, 110.0), 2), ((100.0, 100.0, 100.0), 3)):
         missing = richardson(*levels)
         assert missing.code == code and missing.reported == 100.0 and missing.observed is False
     wobbling = richardson(100.0, 104.0, 84.0)  # near -4, far +20: the finest difference
@@ -229,9 +239,10 @@ def test_the_grid_spacing_is_the_side_of_a_square_cell_of_the_same_area():
 
 def test_the_sign_and_size_rules_at_exact_differences():
     """A finest difference of exactly 1 is a difference (order log2 10 from 1 and 10); a wobble
-    that does not shrink keeps its value; a wobble exactly half the coarser difference counts."""
+    that does not shrink keeps its value and states 3 x its range; a wobble exactly half the
+    coarser difference counts as shrinking."""
     assert richardson(101.0, 100.0, 90.0).code == 0
     stuck = richardson(100.0, 110.0, 100.0)
-    assert stuck.code == 4 and stuck.reported == 100.0
+    assert stuck.code == 7 and stuck.reported == 100.0 and stuck.uncertainty == 30.0
     half = richardson(100.0, 100.5, 99.5)  # near -0.5, far 1.0
     assert half.code == 6 and half.uncertainty == pytest.approx(1.5)

@@ -8,8 +8,9 @@ the same with the reported grid as level 0, and per field f along ``landmark``: 
 the observed order), ``f_extrapolated`` (the converged value), ``f_error`` (the stated error
 of the reported value, f's units: the grid convergence index, `Estimate.uncertainty`) and
 ``f_estimate`` (flag: 0 observed, 6 stated from the finest difference of levels that converge
-without an order, else why not, `cloth.results.richardson.REASONS`); NaN where no error was
-stated. `estimate_columns` gives summary.csv's columns.
+without an order, 7 from the range of levels that do not, else why not,
+`cloth.results.richardson.REASONS`); NaN where no error was stated. `estimate_columns` gives
+summary.csv's columns.
 """
 
 from __future__ import annotations
@@ -24,14 +25,7 @@ import xarray as xr
 from cloth.io import variable
 from cloth.results.landmarks import LANDMARK_FIELDS, Landmark
 from cloth.results.pressure import MMHG
-from cloth.results.richardson import (
-    FINEST_DIFFERENCE,
-    FINEST_NOTE,
-    FLAG_MEANINGS,
-    REASONS,
-    Estimate,
-    estimate_levels,
-)
+from cloth.results.richardson import FLAG_MEANINGS, NOTES, REASONS, Estimate, estimate_levels
 
 log = logging.getLogger(__name__)
 
@@ -179,7 +173,7 @@ def estimate_columns(ds: xr.Dataset, index: int) -> dict[str, object]:
     mean = float(ds["pressure_mean"][index])
     error = float(ds["pressure_mean_error"][index])
     code = int(ds["pressure_mean_estimate"][index])
-    note = FINEST_NOTE if code == FINEST_DIFFERENCE else REASONS.get(code, "not estimated")
+    note = NOTES.get(code) or REASONS.get(code, "not estimated")
     notes = [] if code == 0 else [note]
     if "mesh_spacing" in ds and float(ds["mesh_spacing"][index]) > float(ds["row_spacing"][index]):
         notes.append(
@@ -210,7 +204,7 @@ def estimate_columns(ds: xr.Dataset, index: int) -> dict[str, object]:
 def log_estimates(names: Sequence[str], found: dict[str, list[Estimate]]) -> None:
     """One log line per girth line: its mean pressure's stated error, or why there is none."""
     for name, estimate in zip(names, found["pressure_mean"], strict=True):
-        if estimate.code == FINEST_DIFFERENCE:
+        if estimate.code in NOTES:
             log.info(
                 "%s: mean pressure %.4g Pa +- %.2g Pa (%.2g %%; %s)",
                 name,

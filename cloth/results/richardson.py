@@ -34,8 +34,16 @@ most 1 / `SHRINK` of the coarser one, the levels converge, and the stated error 
 two-grid index with his safety factor for two grids, `SAFETY` x |f1 - f2|, floored at
 `SAFETY` x |f2 - f3| / r21^4 (what the fastest accepted order would still leave, so that two
 equal fine levels do not state a zero error); nothing is extrapolated (code 6,
-``finest_difference``). Levels that really disagree (the finest difference not shrinking) give
-no error (`Estimate.observed` is False, `Estimate.reason` says why).
+``finest_difference``). Where the finest difference does not shrink either (the levels move by
+a few tenths of a per cent either way: a line converged below what the grids resolve, or still
+short of it), the stated error is `SAFETY` x the levels' range max |fi - fj| (Eca and Hoekstra's
+rule for levels without an asymptotic order, J. Comput. Phys. 262, 2014; code 7,
+``data_range``): it bounds a value that moves less than that range from grid to grid, and it is
+as large as the levels disagree. Before this rule such lines stated no error: at 192 x 96 with
+graded rows, the torso's underbust read 1304.74, 1303.97, 1304.00 Pa over its three levels and
+stated nothing, where 3 x 0.77 Pa holds the 0.2 Pa it is off the 384 x 192 value
+(docs/validation.md, "Graded rows"). Only levels with a value missing, or all three equal,
+give no error (`Estimate.observed` is False, `Estimate.reason` says why).
 """
 
 from __future__ import annotations
@@ -71,10 +79,19 @@ FINEST_DIFFERENCE = 6
 FINEST_NOTE = (
     "the levels converge without an order (they wobble): the error is 3 x the finest difference"
 )
-#: The flag meanings of `REASONS` and `FINEST_DIFFERENCE`, with 0 first (CF ``flag_meanings``).
+#: The code of an error stated from the levels' range (module docstring).
+DATA_RANGE = 7
+#: What summary.csv says of an error stated from the levels' range.
+RANGE_NOTE = (
+    "the levels show no order and do not converge (they move either way): the error is 3 x "
+    "their range"
+)
+#: The notes of errors stated without an order, by code.
+NOTES = {FINEST_DIFFERENCE: FINEST_NOTE, DATA_RANGE: RANGE_NOTE}
+#: The flag meanings of `REASONS` and `NOTES`, with 0 first (CF ``flag_meanings``).
 FLAG_MEANINGS = (
     "observed too_few_levels not_finite equal_levels not_monotone order_out_of_range "
-    "finest_difference"
+    "finest_difference data_range"
 )
 
 
@@ -160,12 +177,17 @@ def richardson(
 
 
 def _converging(fine: float, near: float, far: float, r21: float, missing: Estimate) -> Estimate:
-    """The two-grid estimate of levels that show no order but converge (module docstring), or
-    ``missing`` where the finest difference does not shrink."""
-    if far == 0.0 or abs(near) * SHRINK > abs(far):
-        return missing
-    stated = SAFETY * max(abs(near), abs(far) / r21 ** ORDERS[1])
+    """The two-grid estimate of levels that show no order but converge, or the data-range
+    estimate where the finest difference does not shrink (module docstring); ``missing`` where
+    the three levels are equal."""
     nan = math.nan
+    if far == 0.0 or abs(near) * SHRINK > abs(far):
+        spread = max(abs(near), abs(far), abs(near + far))  # max |fi - fj| of the three
+        if spread == 0.0:
+            return missing
+        order = missing.order  # an order outside the asymptotic range is kept, for the record
+        return Estimate(fine, order, nan, nan, True, RANGE_NOTE, SAFETY * spread, DATA_RANGE)
+    stated = SAFETY * max(abs(near), abs(far) / r21 ** ORDERS[1])
     return Estimate(fine, nan, nan, nan, True, FINEST_NOTE, stated, FINEST_DIFFERENCE)
 
 
