@@ -24,7 +24,7 @@ from pathlib import Path
 import xarray as xr
 import yaml
 
-from cloth.results.richardson import FINEST_DIFFERENCE, REASONS
+from cloth.results.richardson import DATA_RANGE, FINEST_DIFFERENCE, REASONS
 from cloth.stages.case import run_case
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -67,6 +67,8 @@ def girth_means(n: int, m: int, band: tuple[float, float], lengthwise: float) ->
 def cell(value: float, row: float, error: float, order: float, code: int) -> str:
     if code == FINEST_DIFFERENCE:
         stated = f"{value:.0f} +- {error:.0f} (2g)"
+    elif code == DATA_RANGE:
+        stated = f"{value:.0f} +- {error:.0f} (range)"
     elif math.isfinite(error):
         stated = f"{value:.0f} +- {error:.0f} (p {order:.2f})"
     else:

@@ -419,6 +419,41 @@ BUGS = [
         "        return 0\n",
         "tests/test_reduced.py",
     ),
+    Bug(
+        "graded rows crowded to the middle (the map's sign flipped)",
+        "cloth/garment/rows.py",
+        "s = xi - grading * np.sin(2.0 * np.pi * xi) / (2.0 * np.pi)",
+        "s = xi + grading * np.sin(2.0 * np.pi * xi) / (2.0 * np.pi)",
+        "tests/test_rows.py",
+    ),
+    Bug(
+        "a case's row grading ignored",
+        "cloth/garment/predeform.py",
+        "row_heights(garment.bottom, garment.top, m, garment.row_grading)",
+        "row_heights(garment.bottom, garment.top, m)",
+        "tests/test_relax.py -k laplace_on_cylinders",
+    ),
+    Bug(
+        "the error estimate's levels halved whatever the case's level ratio",
+        "cloth/stages/levels.py",
+        "grids = coarser_grids((state.grid.n, state.grid.m), count, ratio)",
+        "grids = coarser_grids((state.grid.n, state.grid.m), count)",
+        "tests/test_levels.py -k rerun",
+    ),
+    Bug(
+        "a level's size rounded up past float noise (96 / sqrt(2)^2 -> 49 rows)",
+        "cloth/stages/levels.py",
+        "math.ceil(round(v / scale, 9))",
+        "math.ceil(v / scale)",
+        "tests/test_levels.py -k level_ratio",
+    ),
+    Bug(
+        "the data-range error from the finest difference alone",
+        "cloth/results/richardson.py",
+        "spread = max(abs(near), abs(far), abs(near + far))",
+        "spread = abs(near)",
+        "tests/test_richardson.py",
+    ),
 ]
 
 
