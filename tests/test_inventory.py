@@ -18,6 +18,7 @@ import xarray as xr
 import yaml
 from scipy.integrate import quad
 
+from cloth.results.richardson import RANGE_NOTE
 from tests import inventory
 from tests.conftest import MMHG_BY_DEFINITION as MMHG
 from tests.conftest import run_result
@@ -48,7 +49,7 @@ SUMMARY = {
     "off_body": ("landmark_off_body", 1.0),
 }
 #: summary.csv's error note per estimate flag (result.nc's ``flag_meanings``) the cone has.
-NOTES = {"observed": "", "order_out_of_range": "the observed order is outside the asymptotic range"}
+NOTES = {"observed": "", "data_range": RANGE_NOTE}
 #: summary.csv's columns of the whole case: result.nc's scalars.
 SCALARS = ("max_strain_weft", "lab_max_strain_weft", "max_strain_warp", "lab_max_strain_warp")
 
@@ -135,8 +136,9 @@ def test_every_summary_column_is_result_nc_s_value_in_its_header_s_unit(cone):
         assert row["friction_note"] == ""  # the case has no friction
     checked |= set(SUMMARY) | set(SCALARS) | {"pressure_mean_error_percent"}
     assert set(table[0]) == checked
-    # one line is estimated and one not, so both branches above were taken
-    assert sorted(ds["pressure_mean_estimate"].values.tolist()) == [0, 5]
+    # one line has an order and one is stated from its levels' range (its order outside
+    # 0.5-4), so both notes above were checked
+    assert sorted(ds["pressure_mean_estimate"].values.tolist()) == [0, 7]
 
 
 def _stress(ds: xr.Dataset, family: str, strain: np.ndarray) -> np.ndarray:
