@@ -441,7 +441,7 @@ BUGS = [
         "tests/test_levels.py -k rerun",
     ),
     Bug(
-        "a level's size rounded up past float noise (96 / sqrt(2)^2 -> 49 rows)",
+        "a level's size rounded up past float noise (289 / 1.7^2 -> 101 rows)",
         "cloth/stages/levels.py",
         "math.ceil(round(v / scale, 9))",
         "math.ceil(v / scale)",

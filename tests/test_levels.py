@@ -66,9 +66,11 @@ def test_grids_halve_rounding_up_and_stop_at_the_smallest():
 
 
 def test_a_level_ratio_divides_the_grid_by_its_powers():
-    """garment.level_ratio r: level k is the grid / r^k, rounded up (96 / sqrt(2)^2 is 48, not
-    49, despite the float), and stops where a level would not be smaller than the one above."""
+    """garment.level_ratio r: level k is the grid / r^k, rounded up (289 / 1.7^2 is 100, not
+    101, though the float gives 100.00000000000001), and stops where a level would not be
+    smaller than the one above."""
     assert coarser_grids((96, 48), 2, 2**0.5) == [(68, 34), (48, 24)]
+    assert coarser_grids((289, 289), 2, 1.7) == [(170, 170), (100, 100)]
     assert coarser_grids((288, 144), 2, 1.5) == [(192, 96), (128, 64)]
     assert coarser_grids((12, 4), 2, 1.2) == []  # 10 x 4: the rows stay 4, no level
     with pytest.raises(ValueError, match="exceed 1"):

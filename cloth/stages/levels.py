@@ -71,7 +71,7 @@ def coarser_grids(
     above = grid
     for k in range(1, count + 1):
         scale = ratio**k
-        # rounded to 1e-9 first: 96 / sqrt(2)^2 is 47.999999999999993, one level of 48 rows
+        # rounded to 1e-9 first: 289 / 1.7^2 is 100.00000000000001 in floats, a level of 100
         n, m = (math.ceil(round(v / scale, 9)) for v in grid)
         if n < MIN_AROUND or m < MIN_ROWS or n >= above[0] or m >= above[1]:
             break
