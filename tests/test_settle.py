@@ -3,6 +3,8 @@ query at the settled positions, so an evaluation need not query again."""
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 import pytest
 
@@ -73,3 +75,18 @@ def test_kkt_step_solves_the_bordered_system():
     g[0] = 0.0
     step = _kkt_step(a, g, r, c)
     assert np.all(np.isnan(step[0])) and np.all(np.isfinite(step[1:]))
+
+
+def test_kkt_step_of_an_overflowing_system_is_nan_and_silent():
+    """A trial point far off a fitted surface gives a Hessian of 1e160: its step is NaN (the
+    fallback's), the others' are unchanged, and numpy prints no overflow warning."""
+    rng = np.random.default_rng(4)
+    a = np.broadcast_to(np.eye(3), (3, 3, 3)).copy()
+    g, r, c = rng.normal(size=(3, 3)), rng.normal(size=(3, 3)), rng.normal(size=3)
+    expected = _kkt_step(a, g, r, c)
+    a[1] *= 1e160
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        step = _kkt_step(a, g, r, c)
+    assert np.all(np.isnan(step[1]))
+    np.testing.assert_array_equal(step[[0, 2]], expected[[0, 2]])

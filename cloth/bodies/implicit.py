@@ -36,12 +36,15 @@ def _kkt_step(a: NDArray, g: NDArray, r: NDArray, c: NDArray) -> NDArray:
     for A ((P, 3, 3), symmetric), g and r ((P, 3)) and c ((P,)): dq = A^-1 (r - g dmu) with
     dmu = (g . A^-1 r - c) / (g . A^-1 g), A^-1 by its adjugate (closed form; with LAPACK's
     batched 4 x 4 solves instead, a query of 100k points near the torso took 0.48 s, not 0.35).
-    NaN where the system is singular (a point where grad G vanishes)."""
+    NaN where the system is singular (a point where grad G vanishes) or overflows (a trial point
+    metres off a fitted surface, whose polynomial pieces grow as its cube): the caller's
+    fallback takes those points, and nothing is printed."""
     a00, a01, a02 = a[:, 0, 0], a[:, 0, 1], a[:, 0, 2]
     a11, a12, a22 = a[:, 1, 1], a[:, 1, 2], a[:, 2, 2]
-    c00, c01, c02 = a11 * a22 - a12 * a12, a12 * a02 - a01 * a22, a01 * a12 - a11 * a02
-    c11, c12, c22 = a00 * a22 - a02 * a02, a02 * a01 - a00 * a12, a00 * a11 - a01 * a01
-    det = a00 * c00 + a01 * c01 + a02 * c02
+    with np.errstate(over="ignore", invalid="ignore"):
+        c00, c01, c02 = a11 * a22 - a12 * a12, a12 * a02 - a01 * a22, a01 * a12 - a11 * a02
+        c11, c12, c22 = a00 * a22 - a02 * a02, a02 * a01 - a00 * a12, a00 * a11 - a01 * a01
+        det = a00 * c00 + a01 * c01 + a02 * c02
 
     def inverse_times(v: NDArray) -> NDArray:
         x, y, z = v[:, 0], v[:, 1], v[:, 2]
@@ -56,7 +59,7 @@ def _kkt_step(a: NDArray, g: NDArray, r: NDArray, c: NDArray) -> NDArray:
             / det[:, None]
         )
 
-    with np.errstate(divide="ignore", invalid="ignore"):
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         ar, ag = inverse_times(r), inverse_times(g)
         dmu = (np.einsum("ij,ij->i", g, ar) - c) / np.einsum("ij,ij->i", g, ag)
         step = np.column_stack([ar - ag * dmu[:, None], dmu])
