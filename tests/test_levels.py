@@ -199,6 +199,10 @@ def test_an_automatic_grid_stops_at_its_node_cap_and_says_so(tmp_path, caplog):
         ({"grid": [48, 24], "accuracy": 0.01}, "garment.accuracy", "give grid: auto"),
         ({"grid": [48, 24], "max_nodes": 5000}, "garment.max_nodes", "give grid: auto"),
         ({"grid": "auto", "accuracy": 0.0}, "garment.accuracy", "0"),
+        ({"grid": [48, 24], "level_ratio": 1.0}, "garment.level_ratio", "minimum of 1.1"),
+        ({"grid": [48, 24], "level_ratio": "two"}, "garment.level_ratio", "not of type"),
+        ({"grid": [48, 24], "row_grading": 0.95}, "garment.row_grading", "maximum of 0.9"),
+        ({"grid": [48, 24], "row_grading": True}, "garment.row_grading", "not of type"),
     ],
 )
 def test_an_automatic_grid_asked_wrongly_gets_one_line_naming_the_field(garment, field, words):
