@@ -25,11 +25,13 @@ CASE = {
     "garment": {"bottom": 0.1, "top": 0.4, "reduction": 0.2, "grid": [32, 8]},
 }
 #: Runs ``cloth`` and kills itself (SIGKILL) when it renames a file named ``KILL_FILE`` into
-#: place, or when it enters the stage function ``KILL_STAGE`` of cloth.stages.case.
+#: place, or when it enters the stage function ``KILL_STAGE`` of the module that defines it
+#: (cloth.stages.case, or cloth.stages.results, which ``cloth run`` imports as it aggregates).
 CHILD = """
 import os, signal, sys
 kind, name = sys.argv[1], sys.argv[2]
 import cloth.stages.case as case
+import cloth.stages.results as results
 if kind == "file":
     real = os.replace
     def replace(src, dst, *args, **kwargs):
@@ -40,7 +42,7 @@ if kind == "file":
 else:
     def killed(*args, **kwargs):
         os.kill(os.getpid(), signal.SIGKILL)
-    setattr(case, name, killed)
+    setattr(case if hasattr(case, name) else results, name, killed)
 from cloth.cli import main
 sys.exit(main(sys.argv[3:]))
 """
