@@ -95,3 +95,41 @@ def test_a_confirmation_off_its_target_is_met_by_the_secant(tmp_path):
             (tmp_path / "secant" / "confirm" / f"step{steps}" / "case.yaml").read_text()
         )["garment"]["reduction"]
     )
+
+
+def test_a_confirmation_that_did_not_converge_is_never_met(tmp_path):
+    """A confirmation stopped after 3 Newton iterations reads its own target to the last bit,
+    within any error: the row says `not converged` and not met, for it is no equilibrium
+    (its secant steps, run with the same solver block, stop short too)."""
+    data = copy.deepcopy(CASE)
+    data["solver"] = {"tolerance": 1e-9, "max_iterations": 3, "continuation": False}
+    folder = tmp_path / "confirm"
+    folder.mkdir()
+    (folder / "case.yaml").write_text(yaml.safe_dump(data))
+    run_case(folder / "case.yaml", folder, {}, stop_after="aggregate")
+    with xr.open_dataset(folder / "result.nc") as ds:
+        assert int(ds.attrs["converged"]) == 0
+        value = float(ds["pressure_mean"].sel(landmark="middle"))
+        error = float(mean_error(ds).sel(landmark="middle"))
+    assert np.isfinite(error)
+    row = {
+        "material": "powernet",
+        "body": "ellipse",
+        "landmark": "middle",
+        "target_Pa": value,  # the unconverged value itself: within its error
+        "target_mmHg": value / MMHG,
+        "reduction": 0.15,
+        "slope_Pa": 2.0e4,
+        "reduction_error": 1e-4,
+        "status": "ok",
+        "message": "",
+    }
+    design = tmp_path / "design.csv"
+    with design.open("w", newline="") as handle:
+        writer = csv.DictWriter(handle, fieldnames=DESIGN_HEADER, extrasaction="ignore")
+        writer.writeheader()
+        writer.writerow(row)
+    out = tmp_path / "design_confirmed.csv"
+    confirm_file(design, [folder / "result.nc"], out, tmp_path / "secant")
+    (done,) = list(csv.DictReader(out.open()))
+    assert done["how"] == "not converged" and done["met"] == "0", done
