@@ -69,6 +69,7 @@ def main() -> None:
                 BODIES[name], lengthwise, grid, True, args.level_ratio, args.row_grading
             )
             ref, _ = result(BODIES[name], lengthwise, REFERENCE, False)
+            stalled = "" if int(ds.attrs.get("converged", 0)) else ", NOT converged"
             for k, line in enumerate(ds["landmark"].values):
                 value = float(ds["pressure_mean"].values[k])
                 error = float(ds["pressure_mean_error"].values[k])
@@ -78,7 +79,8 @@ def main() -> None:
                 held += error >= true
                 within += error <= criterion
                 print(
-                    f"| {name} lw {lengthwise:g} ({seconds:.0f} s) | {line} | {value:.1f} | "
+                    f"| {name} lw {lengthwise:g} ({seconds:.0f} s{stalled}) | {line} | "
+                    f"{value:.1f} | "
                     f"{error:.1f} | {float(ref['pressure_mean'].values[k]):.1f} | {true:.1f} | "
                     f"{'yes' if error >= true else 'NO'} | {criterion:.1f} | "
                     f"{'yes' if error <= criterion else 'no'} |",

@@ -59,7 +59,8 @@ def main() -> None:
             within = error <= max(SHARE * value, FLOOR)  # NaN: not within
             over += not within
             cells.append(f"{value:.2f} ± {error:.2f}" + ("" if within else " (!)"))
-        print(f"| {grid} | {seconds:.1f} | {' | '.join(cells)} | {over} |", flush=True)
+        stalled = "" if int(ds.attrs.get("converged", 0)) else " (NOT converged)"
+        print(f"| {grid}{stalled} | {seconds:.1f} | {' | '.join(cells)} | {over} |", flush=True)
 
 
 if __name__ == "__main__":
