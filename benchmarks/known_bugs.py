@@ -450,8 +450,8 @@ BUGS = [
     Bug(
         "a design met on a confirmation that did not converge",
         "cloth/stages/secant.py",
-        "return settled and abs(value - goal) <= error",
-        "return abs(value - goal) <= error",
+        "    return settled and abs(value - goal) <= error\n",
+        "    return abs(value - goal) <= error\n",
         "tests/test_secant.py -k never_met",
     ),
     Bug(

@@ -41,25 +41,24 @@ def _kkt_step(a: NDArray, g: NDArray, r: NDArray, c: NDArray) -> NDArray:
     fallback takes those points, and nothing is printed."""
     a00, a01, a02 = a[:, 0, 0], a[:, 0, 1], a[:, 0, 2]
     a11, a12, a22 = a[:, 1, 1], a[:, 1, 2], a[:, 2, 2]
-    with np.errstate(over="ignore", invalid="ignore"):
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         c00, c01, c02 = a11 * a22 - a12 * a12, a12 * a02 - a01 * a22, a01 * a12 - a11 * a02
         c11, c12, c22 = a00 * a22 - a02 * a02, a02 * a01 - a00 * a12, a00 * a11 - a01 * a01
         det = a00 * c00 + a01 * c01 + a02 * c02
 
-    def inverse_times(v: NDArray) -> NDArray:
-        x, y, z = v[:, 0], v[:, 1], v[:, 2]
-        return (
-            np.column_stack(
-                [
-                    c00 * x + c01 * y + c02 * z,
-                    c01 * x + c11 * y + c12 * z,
-                    c02 * x + c12 * y + c22 * z,
-                ]
+        def inverse_times(v: NDArray) -> NDArray:
+            x, y, z = v[:, 0], v[:, 1], v[:, 2]
+            return (
+                np.column_stack(
+                    [
+                        c00 * x + c01 * y + c02 * z,
+                        c01 * x + c11 * y + c12 * z,
+                        c02 * x + c12 * y + c22 * z,
+                    ]
+                )
+                / det[:, None]
             )
-            / det[:, None]
-        )
 
-    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         ar, ag = inverse_times(r), inverse_times(g)
         dmu = (np.einsum("ij,ij->i", g, ar) - c) / np.einsum("ij,ij->i", g, ag)
         step = np.column_stack([ar - ag * dmu[:, None], dmu])

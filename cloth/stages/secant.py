@@ -50,6 +50,12 @@ def _read(path: Path, landmark: str) -> tuple[float, float, bool]:
     return value, error, bool(int(ds.attrs.get("converged", 0)))
 
 
+def _within(value: float, error: float, settled: bool, goal: float) -> bool:
+    """Whether a confirmation meets ``goal`` (Pa): converged, and ``value`` within its stated
+    ``error`` of it (Pa; NaN never meets)."""
+    return settled and abs(value - goal) <= error
+
+
 def next_reduction(history: list[tuple[float, float]], goal: float, slope: float) -> float:
     """The next reduction (1) toward the pressure ``goal`` (Pa) from ``history`` ((reduction,
     pressure) pairs, the last the latest): the slope's step from one, the secant's from two."""
@@ -67,21 +73,17 @@ def iterate_row(row: dict, result: Path, folder: Path) -> dict[str, object]:
     slope = float(row.get("slope_Pa", "nan") or "nan")
     reduction = float(row["reduction"])
     value, error, settled = _read(result, row["landmark"])
-
-    def within() -> bool:
-        return settled and abs(value - goal) <= error
-
     history = [(reduction, value)]
     how = "confirmed"
     case_path = result.parent / "case.yaml"
     steps = 0
     if not math.isfinite(error):
         how = "no estimate"
-    elif not within():
+    elif not _within(value, error, settled, goal):
         how = "interval"
         while (
             steps < MAX_STEPS
-            and not within()
+            and not _within(value, error, settled, goal)
             and case_path.is_file()
             and math.isfinite(slope)
             and slope != 0
@@ -105,9 +107,9 @@ def iterate_row(row: dict, result: Path, folder: Path) -> dict[str, object]:
                 error / MMHG,
                 goal / MMHG,
             )
-            if within():
+            if _within(value, error, settled, goal):
                 how = "secant"
-    met = math.isfinite(error) and within()
+    met = _within(value, error, settled, goal)
     if not settled:
         how = "not converged"
         log.warning(
