@@ -145,7 +145,7 @@ class ChartTargets:
         return [n for n in self.girth if n not in self.free]
 
 
-def _chart_rows(path: Path) -> tuple[list[str], list[dict[str, str]]]:
+def chart_rows(path: Path) -> tuple[list[str], list[dict[str, str]]]:
     """A chart's columns and its rows by column (its ``#`` comment lines left out), as its
     readers take them."""
     import csv
@@ -157,20 +157,21 @@ def _chart_rows(path: Path) -> tuple[list[str], list[dict[str, str]]]:
 
 
 def chart_kind(chart: str | Path, columns: list[str] | None = None) -> str:
-    """'torso' or 'leg': a chart's kind, read from its columns (a torso chart has ``bust_cm``,
-    a leg chart ``B_cm``; ``columns``: the chart's, where already read); one line naming the
-    file for a chart of neither kind."""
+    """'torso' or 'leg': a chart's kind, read from its columns (a torso chart has ``bust_cm``
+    or the range ``bust_min_cm``, a leg chart ``B_cm`` or ``B_min_cm``; ``columns``: the
+    chart's, where already read); one line naming the file for a chart of neither kind."""
     path = Path(chart)
     if columns is None:
         if not path.is_file():
             raise InputError("size chart not found; check the path", path)
-        columns = _chart_rows(path)[0]
-    if "bust_cm" in columns:
+        columns = chart_rows(path)[0]
+    if "bust_cm" in columns or "bust_min_cm" in columns:
         return "torso"
-    if "B_cm" in columns:
+    if "B_cm" in columns or "B_min_cm" in columns:
         return "leg"
     raise InputError(
-        "neither a torso chart (bust_cm, ...) nor a leg chart (B_cm, ...); see "
+        "neither a torso chart (bust_cm or bust_min_cm, ...) nor a leg chart (B_cm or "
+        "B_min_cm, ...); see "
         "data/bodies/size_chart.csv and leg_chart.csv for the columns",
         path,
         "header",
@@ -183,7 +184,7 @@ def chart_targets(chart: str | Path, size: str) -> ChartTargets:
     path = Path(chart)
     if not path.is_file():
         raise InputError("size chart not found; check the path", path)
-    columns, rows = _chart_rows(path)
+    columns, rows = chart_rows(path)
     kind = chart_kind(path, columns)
     sizes = read_chart(path) if kind == "torso" else read_leg_chart(path)
     if size not in sizes:

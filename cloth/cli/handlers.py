@@ -134,6 +134,30 @@ def wearers(args: argparse.Namespace) -> int:
     return 0
 
 
+def sizes(args: argparse.Namespace) -> int:
+    from cloth.files.population import AGES
+    from cloth.results.pressure import MMHG
+    from cloth.results.targets import Target
+    from cloth.stages.sizes import Request, bands_of, design_sizes, population_of, sizing_names
+    from cloth.stages.sizetables import write_sizes
+
+    bands = bands_of([Target.parse(t) for t in args.target])
+    by = sizing_names(args.by) if args.by is not None else (bands[0].line,)
+    request = Request(
+        population=population_of(args.case, args.population),
+        bands=bands,
+        by=by,
+        coverage=args.coverage,
+        max_sizes=args.max_sizes,
+        variants=args.max_variants,
+        ages=AGES if args.ages is None else tuple(args.ages),
+        margin=args.margin * MMHG,
+        rounds=args.rounds,
+    )
+    write_sizes(design_sizes(args.case, request, args.output, _overrides(args)), args.output)
+    return 0
+
+
 def wearers_report(args: argparse.Namespace) -> int:
     import json
 

@@ -7,6 +7,7 @@ from pathlib import Path
 from typing import NoReturn
 
 from cloth import __version__
+from cloth.cli.sizecommands import add_sizes_command
 from cloth.cli.wearercommands import add_wearers_commands
 from cloth.errors import EXIT_INPUT
 
@@ -329,6 +330,7 @@ def build_parser() -> argparse.ArgumentParser:
     run.set_defaults(handler="run", output_folder=True)
 
     add_wearers_commands(commands, body_commands, _path, solver_options)
+    add_sizes_command(commands, _path, solver_options)
 
     agg = commands.add_parser(
         "aggregate",

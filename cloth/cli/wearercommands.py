@@ -35,7 +35,7 @@ def add_wearers_commands(
         "--population",
         default="default",
         help="CSV of measured people (docs/bodies.md); 'none': the chart's ranges only "
-        "(default: the shipped NHANES survey for a torso chart, none for a leg chart)",
+        "(default: the shipped NHANES survey for a torso chart, ANSUR II for a leg chart)",
     )
     wearers.add_argument(
         "--ages",

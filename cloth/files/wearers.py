@@ -28,14 +28,19 @@ from cloth.io import atomic_output, sha256
 
 #: Where the default charts' wearers ship.
 SHIPPED = Path(__file__).resolve().parents[2] / "data" / "bodies" / "wearers"
-#: The default population of the torso chart's wearers.
-DEFAULT_POPULATION = (
-    Path(__file__).resolve().parents[2]
-    / "data"
-    / "bodies"
-    / "population"
-    / "nhanes_2017_2020_women.csv"
-)
+#: Where the shipped populations are (data/bodies/README.md).
+POPULATIONS = Path(__file__).resolve().parents[2] / "data" / "bodies" / "population"
+#: The default population of the torso chart's wearers: US NHANES 2017-2020.
+DEFAULT_POPULATION = POPULATIONS / "nhanes_2017_2020_women.csv"
+#: The default population of the leg chart's wearers and size charts: US Army ANSUR II women.
+DEFAULT_LEG_POPULATION = POPULATIONS / "ansur2_women.csv"
+
+
+def default_population(kind: str) -> Path:
+    """The shipped population of a chart of ``kind`` ('torso' or 'leg')."""
+    return DEFAULT_LEG_POPULATION if kind == "leg" else DEFAULT_POPULATION
+
+
 INDEX = "wearers.json"
 FORMAT = 1
 
@@ -146,7 +151,7 @@ def body_wearers(body: dict, resolve, field: str, how: str) -> tuple[Path, dict]
     chart = Path(resolve(spec["chart"])) if "chart" in spec else None
     if chart is None:
         chart = DEFAULT_LEG_CHART if kind == "leg" else DEFAULT_CHART
-    for population in (DEFAULT_POPULATION, None):
+    for population in (DEFAULT_POPULATION, DEFAULT_LEG_POPULATION, None):
         found = shipped_wearers(chart, spec["size"], population)
         if found is not None:
             return found, read_index(found)
@@ -160,10 +165,12 @@ def body_wearers(body: dict, resolve, field: str, how: str) -> tuple[Path, dict]
 
 
 __all__ = [
+    "DEFAULT_LEG_POPULATION",
     "DEFAULT_POPULATION",
     "INDEX",
     "SHIPPED",
     "body_wearers",
+    "default_population",
     "index_record",
     "read_index",
     "shipped_wearers",

@@ -16,7 +16,7 @@ from cloth.figures.plots import plot_material
 from cloth.files.avatar import avatar_output, sidecar, write_avatar
 from cloth.files.material import material_dataset
 from cloth.files.population import AGES, read_population
-from cloth.files.wearers import DEFAULT_POPULATION, index_record, write_index
+from cloth.files.wearers import default_population, index_record, write_index
 from cloth.io import atomic_output, sha256, write_netcdf
 from cloth.materials.labtables import ingest
 from cloth.progress import progress
@@ -111,13 +111,13 @@ def wearers_folder(
     ages: tuple[float, float] | None = AGES,
 ) -> dict:
     """The wearers of ``size`` of ``chart`` (`cloth.bodies.wearers`): from ``population`` (a
-    file; ``default``: the shipped survey for a torso chart, none for a leg chart; None: the
-    chart's ranges), each fitted as an avatar into the folder ``output`` with the index
+    file; ``default``: the shipped NHANES survey for a torso chart, ANSUR II for a leg chart;
+    None: the chart's ranges), each fitted as an avatar into the folder ``output`` with the index
     (`cloth.files.wearers`), which is written last and returned. A wearer the body model
     cannot reach is recorded as refused, the others fitted. Needs the extra ``bodies``."""
     targets = chart_targets(chart, size)
     if population == "default":
-        population = DEFAULT_POPULATION if targets.kind == "torso" else None
+        population = default_population(targets.kind)
     if population is not None:
         people = read_population(population, ages)
         wearers = population_wearers(

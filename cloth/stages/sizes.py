@@ -1,0 +1,571 @@
+"""``cloth sizes CASE --population FILE --target LINE=LOW:HIGH ... -o DIR`` (issue 62): a size
+chart designed for a measured population, one garment per size, confirmed by equilibrium.
+
+1. **The people** (`cloth.files.population`): her girths at the target lines and the sizing
+   measures (``--by``), by the chart's names (a survey's ``ankle_cm`` is B).
+2. **Calibrate** the fast model (`cloth.results.tubemodel`) on full equilibria: the people at
+   the primary measure's 5th, 50th and 95th percentile, each wearing the template's pattern cut
+   by Laplace to the low end, the middle and the high end of every band, and of the people in
+   the primary measure's middle fifth those at the 5th and 95th percentile of each shape
+   feature (her stature and girth ratios against the template's), cut to the middle.
+3. **Search** the chart with the fast model (`cloth.results.sizechart`), ``margin`` inside
+   every band.
+4. **Confirm** every size from scratch on its extreme wearers: of the people who fit it, those
+   with the lowest and the highest predicted pressure at each target line (the ends of its
+   ranges), each a parametric leg or torso of her measures (`cloth.bodies.person`) wearing the
+   size's pattern, cut for the size's body in ``chart.csv`` and placed by the lowest girth
+   line. A size is confirmed where every confirmation converged and is inside every band.
+5. Where one is not, the confirmations join the calibration and the chart is searched and
+   confirmed again, up to ``rounds`` times.
+
+Each run is a plain ``cloth run`` of the ``case.yaml`` written beside it; `cloth.stages.sizetables`
+writes the tables and `cloth.figures.sizes` the figure.
+"""
+
+from __future__ import annotations
+
+import csv
+import logging
+import os
+import shutil
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import yaml
+from numpy.typing import NDArray
+
+from cloth.bodies.avatar import ChartTargets, chart_rows, chart_targets
+from cloth.bodies.leg import ABOVE, BELOW, DEFAULT_LEG_CHART
+from cloth.bodies.person import person_body, template_girths
+from cloth.bodies.torso import DEFAULT_CHART
+from cloth.case import Case
+from cloth.case.locations import relocated
+from cloth.errors import InputError
+from cloth.files.material import load_fabric
+from cloth.files.population import AGES, ALIASES, Population, read_population
+from cloth.files.wearers import default_population
+from cloth.io import atomic_output
+from cloth.pipeline.config import load_case
+from cloth.progress import progress
+from cloth.results.pressure import MMHG
+from cloth.results.sizechart import Band, Chart, People, Size, design_chart
+from cloth.results.targets import Target
+from cloth.results.tubemodel import Calibration, LineModel, Tension, laplace
+from cloth.stages.case import run_case
+
+log = logging.getLogger(__name__)
+
+#: How far inside a wearer's body a garment's edge is kept, m.
+INSET = 0.002
+#: Quantiles of the primary measure whose people calibrate the fast model.
+CALIBRATE_AT = (0.05, 0.5, 0.95)
+
+
+@dataclass(frozen=True)
+class Request:
+    """What ``cloth sizes`` is asked: the ``population`` file, the target ``bands``, the sizing
+    measures ``by`` (chart names, primary first), the ``coverage`` (0-1), the most sizes and
+    variants per size, the ``ages`` kept, the search ``margin`` (Pa) and the most ``rounds`` of
+    search and confirmation."""
+
+    population: Path
+    bands: tuple[Band, ...]
+    by: tuple[str, ...]
+    coverage: float = 0.95
+    max_sizes: int = 8
+    variants: int = 3
+    ages: tuple[float, float] | None = AGES
+    margin: float = 0.5 * MMHG
+    rounds: int = 2
+
+
+@dataclass
+class Run:
+    """One equilibrium: who wore what (``girth``: line -> m, ``rest``: line -> m), where it
+    ran, and what it read (line -> Pa; ``error`` the stated discretisation error, NaN where
+    none), whether it converged."""
+
+    name: str
+    folder: Path
+    girth: dict[str, float]
+    rest: dict[str, float]
+    features: dict[str, NDArray[np.float64]]
+    pressure: dict[str, float] = field(default_factory=dict)
+    error: dict[str, float] = field(default_factory=dict)
+    converged: bool = False
+
+
+@dataclass
+class Confirmation:
+    """A size's confirmations: its runs, by wearer."""
+
+    size: Size
+    runs: list[Run]
+    wearers: dict[str, int]  # wearer name -> person index
+
+
+def bands_of(targets: list[Target]) -> tuple[Band, ...]:
+    """Bands from ``--target LINE=LOW:HIGH``; one line for a target that is not a band or a
+    line asked twice."""
+    bands = []
+    for target in targets:
+        if target.band is None:
+            raise InputError(
+                f"{target.line}: cloth sizes needs a band; write {target.line}=LOW:HIGH (mmHg)",
+                field="--target",
+            )
+        if any(b.line == target.line for b in bands):
+            raise InputError(f"the line {target.line} is asked twice", field="--target")
+        bands.append(Band(target.line, *target.band))
+    return tuple(bands)
+
+
+def _cm(row: dict[str, str], column: str) -> float:
+    return 0.01 * float(row[column])
+
+
+def body_extent(kind: str, row: dict[str, str]) -> tuple[float, float]:
+    """The heights (m) a parametric leg or torso of the chart ``row`` spans: a leg `BELOW` B
+    to `ABOVE` G (`cloth.bodies.leg`), a torso its bottom to top."""
+    if kind == "leg":
+        return _cm(row, "B_height_cm") - BELOW, _cm(row, "G_height_cm") + ABOVE
+    return _cm(row, "bottom_height_cm"), _cm(row, "top_height_cm")
+
+
+def population_of(case_path: Path, text: str) -> Path:
+    """``--population``: a file, or ``default``: the shipped population of the case body's
+    kind (`cloth.files.wearers.default_population`)."""
+    if text != "default":
+        return Path(text)
+    kind = load_case(case_path).body.kind
+    return default_population("leg" if kind == "leg" else "torso")
+
+
+def template_of(case: Case, base_dir: Path) -> tuple[str, Path, str, dict]:
+    """The case body's kind ('leg' or 'torso'), chart, size and block: the template of every
+    wearer's body; one line for another body."""
+    block = case.body.block
+    kind = case.body.kind
+    spec = block.get(kind, {}) if isinstance(block.get(kind), dict) else {}
+    if kind not in ("leg", "torso") or "size" not in spec:
+        raise InputError(
+            "cloth sizes builds every wearer as a parametric leg or torso of her measures from "
+            "the case's body; give the case a body {leg: {size: M}} or {torso: {size: M}} (a "
+            "chart's size: her template)",
+            None,
+            "body",
+        )
+    default = DEFAULT_LEG_CHART if kind == "leg" else DEFAULT_CHART
+    chart = base_dir / Path(spec["chart"]).expanduser() if "chart" in spec else default
+    return kind, chart.resolve(), str(spec["size"]), spec
+
+
+def measure_names(request: Request, people: Population, points: tuple[str, ...]) -> None:
+    """Refuse in one line a sizing measure or target line the chart or the population lacks,
+    or a sizing measure with no band."""
+    lines = [b.line for b in request.bands]
+    for line in lines:
+        if line not in points:
+            raise InputError(
+                f"{line} is not a girth line of the case's chart ({', '.join(points)})",
+                None,
+                "--target",
+            )
+    for name in dict.fromkeys([*request.by, *lines]):
+        if name not in people.measures:
+            survey = [k for k, v in ALIASES.items() if v == name]
+            also = f" (or {survey[0]}_cm)" if survey else ""
+            raise InputError(
+                f"the population has no {name} girth; add a column {name}_cm{also}, in cm",
+                people.path,
+                f"{name}_cm",
+            )
+    for name in request.by:
+        if name not in lines:
+            raise InputError(
+                f"--by {name}: a sizing measure needs a band at its line; add --target "
+                f"{name}=LOW:HIGH",
+                None,
+                "--by",
+            )
+
+
+def sizing_names(text: str) -> tuple[str, ...]:
+    """``--by ankle[,calf]`` as the chart's names (`ALIASES`): one or two, distinct."""
+    names = tuple(ALIASES.get(n.strip(), n.strip()) for n in text.split(","))
+    if not 1 <= len(names) <= 2 or not all(names) or len(set(names)) != len(names):
+        raise InputError(
+            f"give one or two distinct measures, e.g. ankle or ankle,calf; got {text!r}",
+            field="--by",
+        )
+    return names
+
+
+class Sizing:
+    """The runs of one ``cloth sizes``: the case, its template, the people and the fabric."""
+
+    def __init__(self, case_path: Path, request: Request, output: Path, overrides: dict) -> None:
+        self.case_path = case_path
+        self.base_dir = case_path.parent
+        self.case = load_case(case_path)
+        self.request = request
+        self.output = output
+        self.overrides = overrides
+        self.kind, self.chart, self.size, self.spec = template_of(self.case, self.base_dir)
+        self.targets: ChartTargets = chart_targets(self.chart, self.size)
+        self.points = tuple(sorted(self.targets.height, key=self.targets.height.get))
+        self.people = read_population(request.population, request.ages)
+        measure_names(request, self.people, self.points)
+        rows = chart_rows(self.chart)[1]
+        self.template = next(r for r in rows if (r.get("size") or "").strip() == self.size)
+        self.tension = Tension.of(load_fabric(self.case.material, self.base_dir))
+        self.bands = {b.line: b for b in request.bands}
+        self.lines = tuple(self.bands)
+        self.girths = {line: self.people.measures[line] for line in self.lines}
+        self.calibration: dict[str, tuple[list[float], list[float], list[float]]] = {
+            line: ([], [], []) for line in self.lines
+        }
+        self.features = {line: self.shape_features(line) for line in self.lines}
+
+    def shape_features(self, line: str) -> NDArray[np.float64]:
+        """(P, F) each person's shape against the template's at ``line`` (module docstring of
+        `cloth.results.tubemodel`): her stature over its, and each other girth she has over
+        her girth at the line, each over the template's, less 1; standardised across the
+        people (NaN where not measured)."""
+        measures = self.people.measures
+        t_girth, _, t_stature = template_girths(self.template, self.points)
+        columns = []
+        if "stature" in measures and np.isfinite(t_stature):
+            columns.append(measures["stature"] / t_stature - 1.0)
+        for point in self.points:
+            if point != line and point in measures and point in t_girth:
+                ratio = measures[point] / measures[line]
+                columns.append(ratio / (t_girth[point] / t_girth[line]) - 1.0)
+        if not columns:
+            return np.zeros((len(self.people.weight), 0))
+        table = np.column_stack(columns)
+        spread = np.nanstd(table, axis=0)
+        return table / np.where(spread > 0, spread, 1.0)
+
+    def offsets(self, models: dict[str, LineModel]) -> dict[str, NDArray[np.float64]]:
+        """Each line's shape term (Pa) on every person (`Calibration.offset`)."""
+        return {line: models[line].calibration.offset(self.features[line]) for line in self.lines}
+
+    # -- bodies and cases ---------------------------------------------------------------------
+
+    def person_row(self, index: int, name: str) -> dict[str, str]:
+        """Person ``index``'s one-row chart, named ``name``."""
+        measures = self.people.measures
+        girths = {p: float(measures[p][index]) for p in self.points if p in measures}
+        girths = {p: g for p, g in girths.items() if np.isfinite(g)}
+        heights = {
+            p: float(measures[f"{p}_height"][index])
+            for p in self.points
+            if f"{p}_height" in measures and np.isfinite(measures[f"{p}_height"][index])
+        }
+        stature = measures.get("stature")
+        height = float(stature[index]) if stature is not None else None
+        return person_body(self.template, self.points, girths, heights, height, name)
+
+    def write_chart(self, rows: list[dict[str, str]], path: Path) -> Path:
+        """A chart of ``rows`` in the template's columns (ranges where a row has them)."""
+        columns = list(dict.fromkeys(k for row in rows for k in row))
+        with atomic_output(path) as tmp, tmp.open("w", newline="") as handle:
+            writer = csv.DictWriter(handle, fieldnames=columns, restval="")
+            writer.writeheader()
+            writer.writerows(rows)
+        return path
+
+    def case_data(
+        self, folder: Path, body: tuple[Path, str], pattern: tuple[Path, str], rest: dict
+    ) -> dict:
+        """The case of one run in ``folder``: the case's garment, solver and material, the
+        body ``body`` (chart, size), the pattern cut on ``pattern`` (chart, size) by the
+        reduction profile that gives each line's ``rest`` circumference (m) there."""
+        data = relocated(self.case.to_dict(), self.base_dir, folder)
+        extra = {k: v for k, v in self.spec.items() if k in ("surface", "around", "rings")}
+        cut_chart, cut_size = pattern
+        cut = chart_targets(cut_chart, cut_size)
+
+        def block(chart: Path, size: str) -> dict:
+            return {self.kind: {**extra, "chart": os.path.relpath(chart, folder), "size": size}}
+
+        data["body"] = {**{k: v for k, v in data["body"].items() if k != self.kind}}
+        data["body"].update(block(*body))
+        garment = data["garment"]
+        garment["bottom"], garment["top"] = self.extent(
+            garment["bottom"], garment["top"], self.row_of(*body), self.row_of(*pattern)
+        )
+        garment.pop("circumference", None)
+        garment["pattern"] = {"body": block(*pattern)}
+        garment["reduction"] = {
+            line: float(1.0 - rest[line] / cut.girth[line]) for line in self.lines
+        }
+        return data
+
+    def row_of(self, chart: Path, size: str) -> dict[str, str]:
+        """The row of ``size`` in ``chart``."""
+        return next(r for r in chart_rows(chart)[1] if (r.get("size") or "").strip() == size)
+
+    def extent(
+        self, bottom: float, top: float, wearer: dict[str, str], pattern: dict[str, str]
+    ) -> tuple[float, float]:
+        """The garment's ``bottom`` and ``top`` (m, the pattern body's frame) kept `INSET`
+        inside the wearer's body once placed by the lowest girth line (a shorter wearer's
+        leg ends lower than the template's)."""
+        line = self.points[0]
+        shift = _cm(wearer, f"{line}_height_cm") - _cm(pattern, f"{line}_height_cm")
+        low, high = body_extent(self.kind, wearer)
+        return max(bottom, low - shift + INSET), min(top, high - shift - INSET)
+
+    def features_of(self, person: int) -> dict[str, NDArray[np.float64]]:
+        return {line: self.features[line][person] for line in self.lines}
+
+    def run(
+        self, name: str, folder: Path, data: dict, girth: dict, rest: dict, features: dict
+    ) -> Run:
+        """Write ``data`` as ``folder/case.yaml``, run it to its summary and read it back."""
+        path = folder / "case.yaml"
+        folder.mkdir(parents=True, exist_ok=True)
+        with atomic_output(path) as tmp:
+            tmp.write_text(yaml.safe_dump(data, sort_keys=False))
+        run_case(path, folder, self.overrides, stop_after="aggregate")
+        out = Run(name, folder, girth, rest, features)
+        with (folder / "summary.csv").open() as handle:
+            for row in csv.DictReader(handle):
+                if row["landmark"] in self.bands:
+                    out.pressure[row["landmark"]] = float(row["pressure_mean_Pa"] or "nan")
+                    out.error[row["landmark"]] = float(row.get("pressure_mean_error_Pa") or "nan")
+                    out.converged = row.get("converged", "1") == "1"
+        return out
+
+    def learn(self, runs: list[Run]) -> None:
+        """Add each converged run (its weft term by Laplace, her shape features and the band
+        mean) to the calibration."""
+        for run in runs:
+            if not run.converged:
+                continue
+            for line in self.lines:
+                p = run.pressure.get(line, float("nan"))
+                weft = float(laplace(self.tension, run.girth[line], run.rest[line]))
+                if np.isfinite(p):
+                    self.calibration[line][0].append(weft)
+                    self.calibration[line][1].append(run.features[line])
+                    self.calibration[line][2].append(p)
+
+    def models(self) -> dict[str, LineModel]:
+        out = {}
+        for line in self.lines:
+            weft, features, pressure = self.calibration[line]
+            count = self.features[line].shape[1]
+            table = np.array(features).reshape(len(weft), count)
+            out[line] = LineModel(self.tension, Calibration.fit(weft, table, pressure))
+        return out
+
+    def population(self, models: dict[str, LineModel]) -> People:
+        return People(self.girths, self.offsets(models), self.people.weight)
+
+    # -- the steps ----------------------------------------------------------------------------
+
+    def calibrate(self) -> list[Run]:
+        """Step 2 (module docstring)."""
+        primary = self.girths[self.request.by[0]]
+        complete = np.ones(len(primary), dtype=bool)
+        for values in self.girths.values():
+            complete &= np.isfinite(values)
+        index = np.flatnonzero(complete)
+        exact = LineModel(self.tension, Calibration.exact())
+        runs = []
+        chosen: dict[int, float] = {}
+        for q in CALIBRATE_AT:
+            value = np.quantile(primary[index], q)
+            person = int(index[np.argmin(np.abs(primary[index] - value))])
+            chosen.setdefault(person, q)
+        # then the ends of each shape feature among the middle of the primary measure
+        low, high = np.quantile(primary[index], [0.4, 0.6])
+        middle = index[(primary[index] >= low) & (primary[index] <= high)]
+        features = self.features[self.request.by[0]][middle]
+        for column in range(features.shape[1]):
+            values = features[:, column]
+            known = np.isfinite(values)
+            for q in (CALIBRATE_AT[0], CALIBRATE_AT[-1]):
+                if known.any():
+                    target = np.nanquantile(values, q)
+                    person = int(middle[known][np.argmin(np.abs(values[known] - target))])
+                    chosen.setdefault(person, 0.5)
+        rows = [self.person_row(p, f"calibrate_{k + 1}") for k, p in enumerate(chosen)]
+        folder = self.output / "calibration"
+        self.write_chart(rows, folder / "people.csv")
+        for k, (person, q) in enumerate(
+            progress(list(chosen.items()), desc="calibration", unit="case")
+        ):
+            name = f"calibrate_{k + 1}"
+            girth = {line: float(self.girths[line][person]) for line in self.lines}
+            # the band's low end by Laplace for the smallest, its middle, its high end: the
+            # weft terms differ, so the fit tells the hoop from the warp
+            rest = {
+                line: float(exact.rest_for(girth[line], b.low + q * (b.high - b.low)))
+                for line, b in self.bands.items()
+            }
+            target = folder / name
+            data = self.case_data(
+                target, (folder / "people.csv", name), (self.chart, self.size), rest
+            )
+            runs.append(self.run(name, target, data, girth, rest, self.features_of(person)))
+        self.learn(runs)
+        return runs
+
+    def search(self) -> Chart:
+        """Step 3."""
+        r = self.request
+        models = self.models()
+        return design_chart(
+            self.population(models),
+            r.by,
+            models,
+            self.bands,
+            r.coverage,
+            r.max_sizes,
+            r.variants,
+            r.margin,
+        )
+
+    def size_rows(self, chart: Chart) -> list[dict[str, str]]:
+        """chart.csv's rows: each size's body at its ranges' centres (`cloth.bodies.person`,
+        from the template), with its ranges."""
+        rows = []
+        for size in chart.sizes:
+            centre = {m: 0.5 * (low + high) for m, (low, high) in size.ranges.items()}
+            row = person_body(self.template, self.points, centre, {}, None, size.name)
+            for m, (low, high) in size.ranges.items():
+                row[f"{m}_min_cm"] = f"{100 * low:.6g}"
+                row[f"{m}_max_cm"] = f"{100 * high:.6g}"
+            rows.append(row)
+        return rows
+
+    def extremes(self, size: Size) -> dict[str, int]:
+        """The size's extreme wearers (module docstring, step 4): name -> person index."""
+        members = size.members[size.fits] if size.fits.any() else size.members
+        models = self.models()
+        out: dict[str, int] = {}
+        for line in self.lines:
+            g = self.girths[line][members]
+            offset = models[line].calibration.offset(self.features[line][members])
+            p = models[line].pressure(g, size.rest[line], offset)
+            for end, k in (("min", int(np.argmin(p))), ("max", int(np.argmax(p)))):
+                person = int(members[k])
+                if person not in out.values():
+                    out[f"{line}_{end}"] = person
+        return out
+
+    def confirm(self, chart: Chart, chart_path: Path) -> list[Confirmation]:
+        """Step 4: every size on its extreme wearers, and on its own body (``size``)."""
+        found = []
+        jobs = []
+        for size in chart.sizes:
+            wearers = self.extremes(size) if len(size.members) else {}
+            folder = self.output / size.name / "confirm"
+            rows = [self.person_row(p, n) for n, p in wearers.items()]
+            if rows:
+                self.write_chart(rows, folder / "people.csv")
+            confirmation = Confirmation(size, [], wearers)
+            found.append(confirmation)
+            for name, person in wearers.items():
+                girth = {line: float(self.girths[line][person]) for line in self.lines}
+                body = (folder / "people.csv", name)
+                jobs.append((confirmation, name, folder / name, body, girth))
+        for confirmation, name, target, body, girth in progress(
+            jobs, desc="confirmations", unit="case"
+        ):
+            size = confirmation.size
+            pattern = (chart_path, size.name)
+            data = self.case_data(target, body, pattern, size.rest)
+            person = confirmation.wearers[name]
+            run = self.run(name, target, data, girth, size.rest, self.features_of(person))
+            confirmation.runs.append(run)
+        return found
+
+    def size_cases(self, chart: Chart, chart_path: Path) -> list[Path]:
+        """Each size's ``{size}/case.yaml``: its garment as a pattern on its own body."""
+        paths = []
+        for size in chart.sizes:
+            folder = self.output / size.name
+            data = self.case_data(
+                folder, (chart_path, size.name), (chart_path, size.name), size.rest
+            )
+            path = folder / "case.yaml"
+            folder.mkdir(parents=True, exist_ok=True)
+            with atomic_output(path) as tmp:
+                tmp.write_text(yaml.safe_dump(data, sort_keys=False))
+            paths.append(path)
+        return paths
+
+
+def confirmed(confirmation: Confirmation, bands: dict[str, Band]) -> bool:
+    """Whether every run of a size converged and is inside every band (limits included)."""
+    if not confirmation.runs:
+        return False
+    for run in confirmation.runs:
+        if not run.converged:
+            return False
+        for line, band in bands.items():
+            p = run.pressure.get(line, float("nan"))
+            if not band.low - 1e-9 * band.high <= p <= band.high * (1 + 1e-9):
+                return False
+    return True
+
+
+@dataclass
+class Outcome:
+    """What ``cloth sizes`` found: the final chart and its confirmations, every round's, the
+    calibration runs, and the fast model the chart was searched with."""
+
+    sizing: Sizing
+    chart: Chart
+    confirmations: list[Confirmation]
+    calibration: list[Run]
+    models: dict[str, LineModel]
+    rounds: int
+
+
+def design_sizes(case_path: Path, request: Request, output: Path, overrides: dict) -> Outcome:
+    """Steps 1-5 of the module docstring into ``output``; the tables and the figure are
+    `cloth.stages.sizetables.write_sizes`'."""
+    sizing = Sizing(case_path, request, output, overrides)
+    calibration = sizing.calibrate()
+    chart_path = output / "chart.csv"
+    previous: list[str] = []
+    for round_ in range(1, request.rounds + 1):
+        models = sizing.models()
+        chart = sizing.search()
+        log.info(
+            "round %d: %d sizes cover %.1f %% of %d people (asked %.1f %%)",
+            round_,
+            len(chart.sizes),
+            100 * chart.coverage,
+            len(chart.people),
+            100 * request.coverage,
+        )
+        for name in previous:  # a size of the round before that this chart no longer has
+            shutil.rmtree(output / name, ignore_errors=True)
+        previous = [size.name for size in chart.sizes]
+        sizing.write_chart(sizing.size_rows(chart), chart_path)
+        confirmations = sizing.confirm(chart, chart_path)
+        if all(confirmed(c, sizing.bands) for c in confirmations) or round_ == request.rounds:
+            break
+        sizing.learn([run for c in confirmations for run in c.runs])
+    sizing.size_cases(chart, chart_path)
+    return Outcome(sizing, chart, confirmations, calibration, models, round_)
+
+
+__all__ = [
+    "CALIBRATE_AT",
+    "Outcome",
+    "Request",
+    "bands_of",
+    "confirmed",
+    "design_sizes",
+    "population_of",
+    "sizing_names",
+]
