@@ -5,6 +5,7 @@ input."""
 from __future__ import annotations
 
 import csv
+import itertools
 from pathlib import Path
 
 import numpy as np
@@ -24,6 +25,7 @@ from cloth.results.sizechart import (
     stabbing_rest,
 )
 from cloth.results.tubemodel import Calibration, LineModel, Tension, laplace
+from tests import inventory
 from tests.test_fuzz import run_cloth
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -294,3 +296,255 @@ def test_a_population_without_the_asked_measure_is_named_with_its_column(leg_cas
     code, err = run_cloth("sizes", str(leg_case), *args, "-o", str(out))
     assert code == 2 and "people.csv" in err and "C_cm" in err and "calf_cm" in err, err
     assert not out.exists()
+
+
+# --- the whole command at CI size -----------------------------------------------------------------
+
+#: the columns of ANSUR II the test's population keeps
+KEEP = ("subject_id", "age_years", "stature_cm", "ankle_cm", "calf_cm", "thigh_cm")
+
+
+@pytest.fixture(scope="module")
+def sized(tmp_path_factory):
+    """``cloth sizes`` on a tiny stocking and 60 women of ANSUR II aged 18-45 with ankles of
+    20-23 cm (seeded), class II at B."""
+    folder = tmp_path_factory.mktemp("sizes")
+    rows = [r for r in csv.DictReader(x for x in ANSUR.open() if not x.startswith("#"))]
+    rows = [r for r in rows if 18 <= float(r["age_years"]) <= 45]
+    rows = [r for r in rows if 20.0 <= float(r["ankle_cm"]) <= 23.0]
+    pick = np.random.default_rng(7).choice(len(rows), 60, replace=False)
+    people = folder / "people.csv"
+    with people.open("w", newline="") as handle:
+        writer = csv.DictWriter(handle, KEEP, extrasaction="ignore")
+        writer.writeheader()
+        writer.writerows(rows[k] for k in sorted(pick))
+    case = folder / "case.yaml"
+    case.write_text(
+        "material: powernet\n"
+        "body: {leg: {size: M}}\n"
+        "garment: {bottom: 0.09, top: 0.77, grid: [12, 36], edges: sliding,\n"
+        "  lengthwise_reduction: 0.15, reduction: 0.16, error_estimate: false}\n"
+        "solver: {method: newton, tolerance: 1.0e-8, max_iterations: 100}\n"
+    )
+    out = folder / "out"
+    args = ["--population", str(people), "--target", "B=23:32", "--max-sizes", "4"]
+    code, err = run_cloth("sizes", str(case), *args, "--rounds", "1", "-o", str(out))
+    assert code == 0, err
+    return people, out
+
+
+def _table(path: Path) -> list[dict[str, str]]:
+    with path.open(newline="") as handle:
+        return list(csv.DictReader(handle))
+
+
+def test_the_count_per_size_is_the_population_recounted_by_hand(sized):
+    people, out = sized
+    ankle = np.array([float(r["ankle_cm"]) for r in _table(people)])
+    sizes = _table(out / "sizes.csv")
+    assert sizes, "no size"
+    for k, row in enumerate(sizes):
+        low, high = float(row["B_min_cm"]), float(row["B_max_cm"])
+        inside = (ankle <= high + 1e-4) & ((ankle >= low - 1e-4) if k == 0 else (ankle > low))
+        assert int(row["people"]) == int(inside.sum()), row["size"]
+        assert float(row["share"]) == pytest.approx(inside.sum() / len(ankle), abs=1e-6)
+    # the sizes follow one another with no gap
+    for before, after in itertools.pairwise(sizes):
+        assert float(after["B_min_cm"]) == pytest.approx(float(before["B_max_cm"]), abs=1e-4)
+
+
+def test_the_confirmations_are_the_runs_beside_them_and_the_verdict_follows(sized):
+    _, out = sized
+    for row in _table(out / "sizes.csv"):
+        runs = sorted((out / row["size"] / "confirm").glob("*/summary.csv"))
+        if not runs:
+            continue
+        values, converged = {}, True
+        for path in runs:
+            (b,) = [r for r in _table(path) if r["landmark"] == "B"]
+            values[path.parent.name] = float(b["pressure_mean_mmHg"])
+            converged &= b["converged"] == "1"
+        low = min(values, key=values.get)
+        high = max(values, key=values.get)
+        assert float(row["B_confirmed_min_mmHg"]) == pytest.approx(values[low], rel=1e-5)
+        assert float(row["B_confirmed_max_mmHg"]) == pytest.approx(values[high], rel=1e-5)
+        assert row["B_confirmed_min_who"].startswith(f"{low}: ")
+        inside = all(23 <= v <= 32 for v in values.values())
+        assert row["confirmed"] == str(int(inside and converged))
+
+
+def test_a_confirmation_is_a_plain_run_of_its_case(sized, tmp_path):
+    _, out = sized
+    case = next(iter(sorted(out.glob("*/confirm/*/case.yaml"))))
+    code, err = run_cloth(
+        "run", str(case), "-o", str(tmp_path / "again"), "--stop-after", "aggregate"
+    )
+    assert code == 0, err
+    (again,) = [r for r in _table(tmp_path / "again" / "summary.csv") if r["landmark"] == "B"]
+    (first,) = [r for r in _table(case.parent / "summary.csv") if r["landmark"] == "B"]
+    assert again["pressure_mean_Pa"] == first["pressure_mean_Pa"]
+
+
+def test_the_written_chart_reads_back_with_each_size_s_range(sized):
+    _, out = sized
+    for row in _table(out / "sizes.csv"):
+        targets = chart_targets(out / "chart.csv", row["size"])
+        low, high = targets.ranges["B"]
+        assert 100 * low == pytest.approx(float(row["B_min_cm"]), abs=1e-4)
+        assert 100 * high == pytest.approx(float(row["B_max_cm"]), abs=1e-4)
+        assert targets.girth["B"] == pytest.approx(0.5 * (low + high), abs=1e-6)
+        assert (out / row["size"] / "case.yaml").is_file()
+    assert (out / "pattern_knitting.csv").is_file() and (out / "sizes.png").is_file()
+
+
+def test_every_column_of_the_sizes_tables_has_its_inventory_row(sized):
+    _, out = sized
+    files = [out / "sizes.csv", out / "fabric_requirement.csv", out / "fast_model.csv"]
+    assert inventory.unlisted(files) == []
+
+
+def _template() -> dict[str, float]:
+    rows = csv.DictReader(x for x in LEG_CHART.open() if not x.startswith("#"))
+    (row,) = [r for r in rows if r["size"] == "M"]
+    return {k: float(row[k]) for k in ("B_cm", "C_cm", "G_cm", "stature_cm")}
+
+
+def _predicted(people: Path, model: dict[str, str]) -> tuple[list[dict], np.ndarray]:
+    """Every person's fast-model shape term at B (Pa), recomputed with numpy from the file,
+    the template's chart row and fast_model.csv's coefficients."""
+    t = _template()
+    rows = _table(people)
+    b = np.array([float(r["ankle_cm"]) for r in rows])
+    c = np.array([float(r["calf_cm"]) for r in rows])
+    g = np.array([float(r["thigh_cm"]) for r in rows])
+    s = np.array([float(r["stature_cm"]) for r in rows])
+    raw = {
+        "stature": s / t["stature_cm"] - 1,
+        "C_over_B": (c / b) / (t["C_cm"] / t["B_cm"]) - 1,
+        "G_over_B": (g / b) / (t["G_cm"] / t["B_cm"]) - 1,
+    }
+    offset = np.full(len(rows), float(model["constant_Pa"]))
+    for name, values in raw.items():
+        assert float(model[f"{name}_std"]) == pytest.approx(np.std(values), rel=1e-6)
+        offset += float(model[f"{name}_Pa_per_std"]) * values / np.std(values)
+    return rows, offset
+
+
+def test_the_predicted_pressures_and_who_fits_are_the_fast_model_recomputed(sized):
+    from cloth.files.material import load_fabric
+
+    people, out = sized
+    (model,) = _table(out / "fast_model.csv")
+    assert model["line"] == "B" and int(model["equilibria"]) >= 3
+    rows, offset = _predicted(people, model)
+    fabric = load_fabric("powernet")
+    tension = Tension(
+        np.asarray(fabric.weft.knot_strain), fabric.thickness * np.asarray(fabric.weft.knot_stress)
+    )
+    ankle = np.array([float(r["ankle_cm"]) for r in rows]) / 100
+    ids = [r["subject_id"] for r in rows]
+    hoop = float(model["hoop"])
+    for k, row in enumerate(_table(out / "sizes.csv")):
+        low, high = float(row["B_min_cm"]) / 100, float(row["B_max_cm"]) / 100
+        inside = (ankle <= high + 1e-6) & ((ankle >= low - 1e-6) if k == 0 else (ankle > low))
+        rest = float(row["B_rest_circumference_cm"]) / 100
+        p = (hoop * 2 * np.pi * tension(ankle / rest - 1) / ankle + offset) / MMHG
+        fits = inside & (p >= 23 - 1e-6) & (p <= 32 + 1e-6)
+        assert float(row["fit_share"]) == pytest.approx(fits.sum() / len(rows), abs=1e-6)
+        chosen = np.flatnonzero(fits if fits.any() else inside)
+        if len(chosen) == 0:
+            continue
+        lo, hi = chosen[np.argmin(p[chosen])], chosen[np.argmax(p[chosen])]
+        assert float(row["B_min_mmHg"]) == pytest.approx(p[lo], rel=1e-4)
+        assert float(row["B_max_mmHg"]) == pytest.approx(p[hi], rel=1e-4)
+        assert (row["B_min_who"], row["B_max_who"]) == (ids[lo], ids[hi])
+
+
+def test_the_fabric_requirement_is_its_corridor_by_hand(sized):
+    people, out = sized
+    (model,) = _table(out / "fast_model.csv")
+    hoop = float(model["hoop"])
+    needs = _table(out / "fabric_requirement.csv")
+    assert len(needs) == 4  # --max-sizes
+    ends = [(float(n["B_min_cm"]) / 100, float(n["B_max_cm"]) / 100) for n in needs]
+    # the central 95 % of the ankles (Hazen's quantiles), split in equal ratios
+    ankle = np.sort([float(r["ankle_cm"]) / 100 for r in _table(people)])
+    middle = np.arange(len(ankle)) + 0.5
+    assert ends[0][0] == pytest.approx(np.interp(0.025 * len(ankle), middle, ankle))
+    assert ends[-1][1] == pytest.approx(np.interp(0.975 * len(ankle), middle, ankle))
+    offsets = np.sort(_predicted(people, model)[1])
+    shape = [np.interp(q * len(offsets), middle, offsets) for q in (0.025, 0.975)]
+    ratios = [b / a for a, b in ends]
+    assert np.allclose(ratios, ratios[0])
+    for (a, b), row in zip(ends, needs, strict=True):
+        weft_low = float(row["tension_floor_N_per_m"]) * 2 * np.pi * hoop / a
+        weft_high = float(row["tension_roof_N_per_m"]) * 2 * np.pi * hoop / b
+        room = max(weft_high - weft_low, 0)
+        modulus = room / (2 * np.pi * hoop * (1 / a - 1 / b))
+        # the file's 6 significant digits, through the difference of two near values
+        rel = 3e-6 * (weft_high + weft_low) / room if room > 0 else 1e-9
+        rel *= 1 + (a + b) / (b - a)
+        assert float(row["linear_modulus_N_per_m"]) == pytest.approx(modulus, rel=rel, abs=1e-9)
+        if modulus > 0:
+            stiffest = float(row["linear_modulus_N_per_m"])
+            rest = 1 / (1 / a + weft_low / (2 * np.pi * hoop * stiffest))
+            assert float(row["rest_circumference_cm"]) == pytest.approx(100 * rest, rel=1e-4)
+            written = float(row["rest_circumference_cm"]) / 100
+            assert float(row["strain_min"]) == pytest.approx(a / written - 1, rel=1e-4)
+            assert float(row["strain_max"]) == pytest.approx(b / written - 1, rel=1e-4)
+        # the band less the central 95 % of the people's shape terms (Hazen's quantiles)
+        assert weft_low == pytest.approx(23 * MMHG - shape[0], rel=1e-4)
+        assert weft_high == pytest.approx(32 * MMHG - shape[1], rel=1e-4)
+        assert row["fabric_holds"] in ("0", "1")
+
+
+def test_the_fast_model_s_error_is_its_rms_on_the_equilibria_it_was_fitted_to(sized):
+    import yaml
+
+    from cloth.files.material import load_fabric
+
+    _, out = sized
+    (model,) = _table(out / "fast_model.csv")
+    t = _template()
+    fabric = load_fabric("powernet")
+    strain = np.asarray(fabric.weft.knot_strain)
+    tension = fabric.thickness * np.asarray(fabric.weft.knot_stress)
+    residuals = []
+    for row in _table(out / "calibration" / "people.csv"):
+        folder = out / "calibration" / row["size"]
+        (b,) = [r for r in _table(folder / "summary.csv") if r["landmark"] == "B"]
+        reduction = yaml.safe_load((folder / "case.yaml").read_text())["garment"]["reduction"]
+        rest = (1 - reduction["B"]) * t["B_cm"] / 100
+        girth = float(row["B_cm"]) / 100
+        weft = 2 * np.pi * np.interp(girth / rest - 1, strain, tension) / girth
+        shape = {
+            "stature": float(row["stature_cm"]) / t["stature_cm"] - 1,
+            "C_over_B": (float(row["C_cm"]) / float(row["B_cm"])) / (t["C_cm"] / t["B_cm"]) - 1,
+            "G_over_B": (float(row["G_cm"]) / float(row["B_cm"])) / (t["G_cm"] / t["B_cm"]) - 1,
+        }
+        offset = float(model["constant_Pa"]) + sum(
+            float(model[f"{k}_Pa_per_std"]) * v / float(model[f"{k}_std"]) for k, v in shape.items()
+        )
+        residuals.append(float(model["hoop"]) * weft + offset - float(b["pressure_mean_Pa"]))
+    assert int(model["equilibria"]) == len(residuals) >= 3
+    rms = np.sqrt(np.mean(np.square(residuals))) / MMHG
+    assert float(model["rms_error_mmHg"]) == pytest.approx(rms, rel=1e-4)
+
+
+def test_the_grid_s_verdict_is_the_stated_errors_against_the_criterion(sized):
+    _, out = sized
+    for row in _table(out / "sizes.csv"):
+        runs = sorted((out / row["size"] / "confirm").glob("*/summary.csv"))
+        pairs = []
+        for path in runs:
+            (b,) = [r for r in _table(path) if r["landmark"] == "B"]
+            error = float(b["pressure_mean_error_mmHg"] or "nan")
+            pairs.append((float(b["pressure_mean_mmHg"]), error))
+        errors = [e for _, e in pairs if np.isfinite(e)]
+        stated = row["B_confirmed_error_mmHg"]
+        if errors:
+            assert float(stated) == pytest.approx(max(errors), rel=1e-5)
+        else:
+            assert stated in ("", "nan")
+        tells = bool(pairs) and all(np.isfinite(e) and e <= max(0.01 * p, 0.1) for p, e in pairs)
+        assert row["grid_tells"] == str(int(tells))

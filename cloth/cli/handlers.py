@@ -138,7 +138,8 @@ def sizes(args: argparse.Namespace) -> int:
     from cloth.files.population import AGES
     from cloth.results.pressure import MMHG
     from cloth.results.targets import Target
-    from cloth.stages.sizes import Request, bands_of, design_sizes, population_of, sizing_names
+    from cloth.stages.sizerequest import Request, bands_of, population_of, sizing_names
+    from cloth.stages.sizes import design_sizes
     from cloth.stages.sizetables import write_sizes
 
     bands = bands_of([Target.parse(t) for t in args.target])
@@ -151,7 +152,7 @@ def sizes(args: argparse.Namespace) -> int:
         max_sizes=args.max_sizes,
         variants=args.max_variants,
         ages=AGES if args.ages is None else tuple(args.ages),
-        margin=args.margin * MMHG,
+        margin=None if args.margin is None else args.margin * MMHG,
         rounds=args.rounds,
     )
     write_sizes(design_sizes(args.case, request, args.output, _overrides(args)), args.output)

@@ -97,8 +97,9 @@ def add_sizes_command(
     sizes.add_argument(
         "--margin",
         type=_mmhg,
-        default=0.5,
-        help="how far inside every band the search keeps the fast model, mmHg (default 0.5)",
+        default=None,
+        help="how far inside every band the search keeps the fast model, mmHg (default: twice "
+        "its rms error on the equilibria it was calibrated on, at least 0.5)",
     )
     sizes.add_argument(
         "--rounds",

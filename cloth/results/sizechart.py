@@ -48,6 +48,9 @@ from cloth.results.tubemodel import LineModel
 STEPS = 60
 #: A size's end is looked for up to this many times its start.
 WIDEST = 3.0
+#: The central shares of the people's shape terms a size may be held over, past the asked
+#: share (`design_chart`).
+SHAPE_SHARES = (0.9, 0.8, 0.7, 0.6, 0.5)
 
 
 @dataclass(frozen=True)
@@ -286,20 +289,59 @@ def design_chart(
     share: float,
     most: int,
     variants: int = 3,
-    margin: float = 0.0,
+    margin: float | Mapping[str, float] = 0.0,
 ) -> Chart:
     """The chart (module docstring) for ``people``, sized by ``measures`` (one or two target
     lines, primary first), each line's fast model and band; ``share`` (0-1) of them to cover
     with at most ``most`` sizes (and ``variants`` per size by the secondary), the search
-    ``margin`` (Pa) inside each band. A size is searched over the central share of the
-    people's shape terms at its sizing line (`offset_range`)."""
+    ``margin`` (Pa; or line -> Pa) inside each band.
+
+    A size is held over a central share of the people's shape terms at its sizing line
+    (`offset_range`): the asked share first, then narrower ones (`SHAPE_SHARES`), since where
+    the shape terms spread over more than the band a size of any width would lose people at
+    both ends. Of these charts, the fewest sizes that cover ``share`` of the people (the most
+    covered among equals); where none does, the one that covers most."""
     index = people.complete()
     level = share ** (1.0 / len(measures))
+    margins = margin if isinstance(margin, Mapping) else dict.fromkeys(bands, margin)
+    search = {line: band.shrunk(margins[line]) for line, band in bands.items()}
+    w = people.weight[index]
+    best: Chart | None = None
+    for shape_share in sorted({level, *(s for s in SHAPE_SHARES if s < level)}, reverse=True):
+        bends = {line: offset_range(people.offset[line][index], w, shape_share) for line in bands}
+        chart = _chart(people, index, measures, models, bands, search, level, most, variants, bends)
+        chart = Chart(chart.sizes, measures, chart.coverage, share, index)
+        if best is None or _better(chart, best):
+            best = chart
+    assert best is not None
+    return best
+
+
+def _better(chart: Chart, best: Chart) -> bool:
+    """Whether ``chart`` beats ``best`` (`design_chart`'s order)."""
+    if chart.met != best.met:
+        return chart.met
+    if chart.met and len(chart.sizes) != len(best.sizes):
+        return len(chart.sizes) < len(best.sizes)
+    return chart.coverage > best.coverage + 1e-12
+
+
+def _chart(
+    people: People,
+    index: NDArray[np.intp],
+    measures: tuple[str, ...],
+    models: Mapping[str, LineModel],
+    bands: Mapping[str, Band],
+    search: Mapping[str, Band],
+    level: float,
+    most: int,
+    variants: int,
+    bends: Mapping[str, tuple[float, float]],
+) -> Chart:
+    """One chart of `design_chart`, its sizes held over the shape terms ``bends``."""
     primary = measures[0]
-    search = {line: band.shrunk(margin) for line, band in bands.items()}
     values = people.girth[primary][index]
     w = people.weight[index]
-    bends = {line: offset_range(people.offset[line][index], w, level) for line in bands}
     edges = cover(values, w, models[primary], search[primary], level, most, bends[primary])
     sizes = []
     for k, members in enumerate(_sizes_over(edges, values)):
@@ -320,10 +362,11 @@ def design_chart(
             variant_ranges = {**ranges, second: (float(cut[j]), float(cut[j + 1]))}
             label = f"{name}{chr(ord('a') + j)}"
             sizes.append(_size(label, variant_ranges, chosen[sub], people, models, bands, bends))
+    sizes = [s for s in sizes if s.ranges[primary][1] > s.ranges[primary][0]]
     fitted = sum(float(people.weight[s.members[s.fits]].sum()) for s in sizes)
     total = float(w.sum())
     coverage = fitted / total if total > 0 else 0.0
-    return Chart(tuple(sizes), measures, coverage, share, index)
+    return Chart(tuple(sizes), measures, coverage, level, index)
 
 
 def _size(

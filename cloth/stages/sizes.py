@@ -8,8 +8,9 @@ chart designed for a measured population, one garment per size, confirmed by equ
    by Laplace to the low end, the middle and the high end of every band, and of the people in
    the primary measure's middle fifth those at the 5th and 95th percentile of each shape
    feature (her stature and girth ratios against the template's), cut to the middle.
-3. **Search** the chart with the fast model (`cloth.results.sizechart`), ``margin`` inside
-   every band.
+3. **Search** the chart with the fast model (`cloth.results.sizechart`), a margin inside
+   every band: the one asked, or by default (``margin`` None) twice the fast model's rms
+   error on the equilibria it was fitted to, at least `LEAST_MARGIN`.
 4. **Confirm** every size from scratch on its extreme wearers: of the people who fit it, those
    with the lowest and the highest predicted pressure at each target line (the ends of its
    ranges), each a parametric leg or torso of her measures (`cloth.bodies.person`) wearing the
@@ -18,8 +19,10 @@ chart designed for a measured population, one garment per size, confirmed by equ
 5. Where one is not, the confirmations join the calibration and the chart is searched and
    confirmed again, up to ``rounds`` times.
 
-Each run is a plain ``cloth run`` of the ``case.yaml`` written beside it; `cloth.stages.sizetables`
-writes the tables and `cloth.figures.sizes` the figure.
+Each run is a plain ``cloth run`` of the ``case.yaml`` written beside it. Last, each size's
+garment runs on its own body (``{size}/``, the size's row of ``chart.csv``), and a stocking's
+sizes get their knitting table (``pattern_knitting.csv``, `cloth.files.knitting`).
+`cloth.stages.sizetables` writes the tables and `cloth.figures.sizes` the figure.
 """
 
 from __future__ import annotations
@@ -36,48 +39,28 @@ import yaml
 from numpy.typing import NDArray
 
 from cloth.bodies.avatar import ChartTargets, chart_rows, chart_targets
-from cloth.bodies.leg import ABOVE, BELOW, DEFAULT_LEG_CHART
+from cloth.bodies.leg import ABOVE, BELOW
 from cloth.bodies.person import person_body, template_girths
-from cloth.bodies.torso import DEFAULT_CHART
-from cloth.case import Case
 from cloth.case.locations import relocated
-from cloth.errors import InputError
 from cloth.files.material import load_fabric
-from cloth.files.population import AGES, ALIASES, Population, read_population
-from cloth.files.wearers import default_population
+from cloth.files.population import read_population
 from cloth.io import atomic_output
 from cloth.pipeline.config import load_case
 from cloth.progress import progress
 from cloth.results.pressure import MMHG
 from cloth.results.sizechart import Band, Chart, People, Size, design_chart
-from cloth.results.targets import Target
 from cloth.results.tubemodel import Calibration, LineModel, Tension, laplace
 from cloth.stages.case import run_case
+from cloth.stages.sizerequest import Request, measure_names, template_of
 
 log = logging.getLogger(__name__)
 
+#: The least margin inside a band the search keeps by default, Pa.
+LEAST_MARGIN = 0.5 * MMHG
 #: How far inside a wearer's body a garment's edge is kept, m.
 INSET = 0.002
 #: Quantiles of the primary measure whose people calibrate the fast model.
 CALIBRATE_AT = (0.05, 0.5, 0.95)
-
-
-@dataclass(frozen=True)
-class Request:
-    """What ``cloth sizes`` is asked: the ``population`` file, the target ``bands``, the sizing
-    measures ``by`` (chart names, primary first), the ``coverage`` (0-1), the most sizes and
-    variants per size, the ``ages`` kept, the search ``margin`` (Pa) and the most ``rounds`` of
-    search and confirmation."""
-
-    population: Path
-    bands: tuple[Band, ...]
-    by: tuple[str, ...]
-    coverage: float = 0.95
-    max_sizes: int = 8
-    variants: int = 3
-    ages: tuple[float, float] | None = AGES
-    margin: float = 0.5 * MMHG
-    rounds: int = 2
 
 
 @dataclass
@@ -105,22 +88,6 @@ class Confirmation:
     wearers: dict[str, int]  # wearer name -> person index
 
 
-def bands_of(targets: list[Target]) -> tuple[Band, ...]:
-    """Bands from ``--target LINE=LOW:HIGH``; one line for a target that is not a band or a
-    line asked twice."""
-    bands = []
-    for target in targets:
-        if target.band is None:
-            raise InputError(
-                f"{target.line}: cloth sizes needs a band; write {target.line}=LOW:HIGH (mmHg)",
-                field="--target",
-            )
-        if any(b.line == target.line for b in bands):
-            raise InputError(f"the line {target.line} is asked twice", field="--target")
-        bands.append(Band(target.line, *target.band))
-    return tuple(bands)
-
-
 def _cm(row: dict[str, str], column: str) -> float:
     return 0.01 * float(row[column])
 
@@ -131,75 +98,6 @@ def body_extent(kind: str, row: dict[str, str]) -> tuple[float, float]:
     if kind == "leg":
         return _cm(row, "B_height_cm") - BELOW, _cm(row, "G_height_cm") + ABOVE
     return _cm(row, "bottom_height_cm"), _cm(row, "top_height_cm")
-
-
-def population_of(case_path: Path, text: str) -> Path:
-    """``--population``: a file, or ``default``: the shipped population of the case body's
-    kind (`cloth.files.wearers.default_population`)."""
-    if text != "default":
-        return Path(text)
-    kind = load_case(case_path).body.kind
-    return default_population("leg" if kind == "leg" else "torso")
-
-
-def template_of(case: Case, base_dir: Path) -> tuple[str, Path, str, dict]:
-    """The case body's kind ('leg' or 'torso'), chart, size and block: the template of every
-    wearer's body; one line for another body."""
-    block = case.body.block
-    kind = case.body.kind
-    spec = block.get(kind, {}) if isinstance(block.get(kind), dict) else {}
-    if kind not in ("leg", "torso") or "size" not in spec:
-        raise InputError(
-            "cloth sizes builds every wearer as a parametric leg or torso of her measures from "
-            "the case's body; give the case a body {leg: {size: M}} or {torso: {size: M}} (a "
-            "chart's size: her template)",
-            None,
-            "body",
-        )
-    default = DEFAULT_LEG_CHART if kind == "leg" else DEFAULT_CHART
-    chart = base_dir / Path(spec["chart"]).expanduser() if "chart" in spec else default
-    return kind, chart.resolve(), str(spec["size"]), spec
-
-
-def measure_names(request: Request, people: Population, points: tuple[str, ...]) -> None:
-    """Refuse in one line a sizing measure or target line the chart or the population lacks,
-    or a sizing measure with no band."""
-    lines = [b.line for b in request.bands]
-    for line in lines:
-        if line not in points:
-            raise InputError(
-                f"{line} is not a girth line of the case's chart ({', '.join(points)})",
-                None,
-                "--target",
-            )
-    for name in dict.fromkeys([*request.by, *lines]):
-        if name not in people.measures:
-            survey = [k for k, v in ALIASES.items() if v == name]
-            also = f" (or {survey[0]}_cm)" if survey else ""
-            raise InputError(
-                f"the population has no {name} girth; add a column {name}_cm{also}, in cm",
-                people.path,
-                f"{name}_cm",
-            )
-    for name in request.by:
-        if name not in lines:
-            raise InputError(
-                f"--by {name}: a sizing measure needs a band at its line; add --target "
-                f"{name}=LOW:HIGH",
-                None,
-                "--by",
-            )
-
-
-def sizing_names(text: str) -> tuple[str, ...]:
-    """``--by ankle[,calf]`` as the chart's names (`ALIASES`): one or two, distinct."""
-    names = tuple(ALIASES.get(n.strip(), n.strip()) for n in text.split(","))
-    if not 1 <= len(names) <= 2 or not all(names) or len(set(names)) != len(names):
-        raise InputError(
-            f"give one or two distinct measures, e.g. ankle or ankle,calf; got {text!r}",
-            field="--by",
-        )
-    return names
 
 
 class Sizing:
@@ -226,27 +124,35 @@ class Sizing:
         self.calibration: dict[str, tuple[list[float], list[float], list[float]]] = {
             line: ([], [], []) for line in self.lines
         }
-        self.features = {line: self.shape_features(line) for line in self.lines}
+        shapes = {line: self.shape_features(line) for line in self.lines}
+        self.features = {line: shapes[line][0] for line in self.lines}
+        #: line -> each feature's name and spread (`shape_features`)
+        self.feature_names = {line: shapes[line][1] for line in self.lines}
+        self.feature_spreads = {line: shapes[line][2] for line in self.lines}
 
-    def shape_features(self, line: str) -> NDArray[np.float64]:
+    def shape_features(self, line: str) -> tuple[NDArray[np.float64], list[str], list[float]]:
         """(P, F) each person's shape against the template's at ``line`` (module docstring of
-        `cloth.results.tubemodel`): her stature over its, and each other girth she has over
-        her girth at the line, each over the template's, less 1; standardised across the
-        people (NaN where not measured)."""
+        `cloth.results.tubemodel`): her stature over its (``stature``), and each other girth
+        she has over her girth at the line (``{point}_over_{line}``), each over the
+        template's, less 1; standardised across the people (NaN where not measured); with
+        the features' names and their spreads (standard deviations before standardising)."""
         measures = self.people.measures
         t_girth, _, t_stature = template_girths(self.template, self.points)
-        columns = []
+        columns, names = [], []
         if "stature" in measures and np.isfinite(t_stature):
             columns.append(measures["stature"] / t_stature - 1.0)
+            names.append("stature")
         for point in self.points:
             if point != line and point in measures and point in t_girth:
                 ratio = measures[point] / measures[line]
                 columns.append(ratio / (t_girth[point] / t_girth[line]) - 1.0)
+                names.append(f"{point}_over_{line}")
         if not columns:
-            return np.zeros((len(self.people.weight), 0))
+            return np.zeros((len(self.people.weight), 0)), [], []
         table = np.column_stack(columns)
         spread = np.nanstd(table, axis=0)
-        return table / np.where(spread > 0, spread, 1.0)
+        spread = np.where(spread > 0, spread, 1.0)
+        return table / spread, names, spread.tolist()
 
     def offsets(self, models: dict[str, LineModel]) -> dict[str, NDArray[np.float64]]:
         """Each line's shape term (Pa) on every person (`Calibration.offset`)."""
@@ -363,6 +269,31 @@ class Sizing:
             out[line] = LineModel(self.tension, Calibration.fit(weft, table, pressure))
         return out
 
+    def errors(self, models: dict[str, LineModel]) -> dict[str, float]:
+        """Each line's rms error (Pa) of the fast model on the equilibria it was fitted to
+        (NaN where none)."""
+        out = {}
+        for line in self.lines:
+            weft, features, pressure = self.calibration[line]
+            if not pressure:
+                out[line] = float("nan")
+                continue
+            calibration = models[line].calibration
+            table = np.array(features).reshape(len(weft), self.features[line].shape[1])
+            predicted = calibration.hoop * np.array(weft) + calibration.offset(table)
+            out[line] = float(np.sqrt(np.mean((predicted - np.array(pressure)) ** 2)))
+        return out
+
+    def margins(self, models: dict[str, LineModel]) -> dict[str, float]:
+        """The search's margin at each line (module docstring, step 3), Pa."""
+        if self.request.margin is not None:
+            return dict.fromkeys(self.lines, self.request.margin)
+        errors = self.errors(models)
+        return {
+            line: max(LEAST_MARGIN, 2 * errors[line]) if np.isfinite(errors[line]) else LEAST_MARGIN
+            for line in self.lines
+        }
+
     def population(self, models: dict[str, LineModel]) -> People:
         return People(self.girths, self.offsets(models), self.people.weight)
 
@@ -428,7 +359,7 @@ class Sizing:
             r.coverage,
             r.max_sizes,
             r.variants,
-            r.margin,
+            self.margins(models),
         )
 
     def size_rows(self, chart: Chart) -> list[dict[str, str]]:
@@ -487,9 +418,11 @@ class Sizing:
         return found
 
     def size_cases(self, chart: Chart, chart_path: Path) -> list[Path]:
-        """Each size's ``{size}/case.yaml``: its garment as a pattern on its own body."""
-        paths = []
-        for size in chart.sizes:
+        """Each size's ``{size}/case.yaml`` (its garment as a pattern on its own body, the
+        size's row of chart.csv) run into ``{size}/`` (its result.nc gives the knitting
+        table); the results."""
+        results = []
+        for size in progress(list(chart.sizes), desc="sizes' own bodies", unit="case"):
             folder = self.output / size.name
             data = self.case_data(
                 folder, (chart_path, size.name), (chart_path, size.name), size.rest
@@ -498,8 +431,9 @@ class Sizing:
             folder.mkdir(parents=True, exist_ok=True)
             with atomic_output(path) as tmp:
                 tmp.write_text(yaml.safe_dump(data, sort_keys=False))
-            paths.append(path)
-        return paths
+            run_case(path, folder, self.overrides, stop_after="aggregate")
+            results.append(folder / "result.nc")
+        return results
 
 
 def confirmed(confirmation: Confirmation, bands: dict[str, Band]) -> bool:
@@ -538,6 +472,18 @@ def design_sizes(case_path: Path, request: Request, output: Path, overrides: dic
     previous: list[str] = []
     for round_ in range(1, request.rounds + 1):
         models = sizing.models()
+        errors = sizing.errors(models)
+        for line in sizing.lines:
+            log.info(
+                "round %d: the fast model at %s: hoop %.3f, shape terms %s Pa; rms error "
+                "%.2f mmHg on %d equilibria",
+                round_,
+                line,
+                models[line].calibration.hoop,
+                np.array2string(models[line].calibration.shape, precision=0),
+                errors[line] / MMHG,
+                len(sizing.calibration[line][2]),
+            )
         chart = sizing.search()
         log.info(
             "round %d: %d sizes cover %.1f %% of %d people (asked %.1f %%)",
@@ -555,17 +501,18 @@ def design_sizes(case_path: Path, request: Request, output: Path, overrides: dic
         if all(confirmed(c, sizing.bands) for c in confirmations) or round_ == request.rounds:
             break
         sizing.learn([run for c in confirmations for run in c.runs])
-    sizing.size_cases(chart, chart_path)
+    results = sizing.size_cases(chart, chart_path)
+    if sizing.kind == "leg" and results:  # a stocking is knitted as a tube
+        from cloth.stages.patterns import write_patterns  # late: the pattern writers
+
+        names = [size.name for size in chart.sizes]
+        write_patterns(results, output / "pattern.csv", "tube", ["knitting"], names)
     return Outcome(sizing, chart, confirmations, calibration, models, round_)
 
 
 __all__ = [
     "CALIBRATE_AT",
     "Outcome",
-    "Request",
-    "bands_of",
     "confirmed",
     "design_sizes",
-    "population_of",
-    "sizing_names",
 ]

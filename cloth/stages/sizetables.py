@@ -17,6 +17,12 @@ table and sizes.png, from what `cloth.stages.sizes.design_sizes` found.
 * ``confirmed`` (1 where every confirmation converged and is inside every band),
   ``grid_tells`` (1 where every confirmation's stated error is within max(1 %, 0.1 mmHg)).
 
+``fast_model.csv``, one row per target line: the fast model the chart was searched with
+(`cloth.results.tubemodel`): ``line``, ``hoop``, ``constant_Pa``, per shape feature
+``{feature}_Pa_per_std`` (its coefficient, Pa per standard deviation) and ``{feature}_std``
+(that standard deviation over the people, 1), ``equilibria`` (how many it was fitted to) and
+``rms_error_mmHg`` (its rms error on them).
+
 ``fabric_requirement.csv``, one row per size of the chart asked for (`cloth.results.fabricneed`):
 ``size``, ``{measure}_min_cm``, ``{measure}_max_cm``, ``strain_min``, ``strain_max``,
 ``rest_circumference_cm``, ``tension_floor_N_per_m``, ``tension_roof_N_per_m``,
@@ -208,6 +214,31 @@ def figure(outcome: Outcome, needs: list[Need], path: Path) -> Path:
     )
 
 
+def model_rows(outcome: Outcome) -> tuple[list[dict[str, object]], list[str]]:
+    """fast_model.csv's rows and header (module docstring)."""
+    sizing = outcome.sizing
+    errors = sizing.errors(outcome.models)
+    rows, header = [], ["line", "hoop", "constant_Pa", "equilibria", "rms_error_mmHg"]
+    for line in sizing.lines:
+        calibration = outcome.models[line].calibration
+        row: dict[str, object] = {
+            "line": line,
+            "hoop": calibration.hoop,
+            "constant_Pa": float(calibration.shape[0]),
+            "equilibria": len(sizing.calibration[line][2]),
+            "rms_error_mmHg": errors[line] / MMHG,
+        }
+        names = sizing.feature_names[line]
+        for name, value, spread in zip(
+            names, calibration.shape[1:], sizing.feature_spreads[line], strict=True
+        ):
+            row[f"{name}_Pa_per_std"] = float(value)
+            row[f"{name}_std"] = float(spread)
+            header += [c for c in (f"{name}_Pa_per_std", f"{name}_std") if c not in header]
+        rows.append(row)
+    return rows, header
+
+
 def write_sizes(outcome: Outcome, output: Path) -> dict[str, Path]:
     """sizes.csv, fabric_requirement.csv and sizes.png into ``output``; their paths."""
     rows, header = size_rows(outcome)
@@ -219,6 +250,8 @@ def write_sizes(outcome: Outcome, output: Path) -> dict[str, Path]:
             need_table, output / "fabric_requirement.csv", need_header
         ),
     }
+    fast_rows, fast_header = model_rows(outcome)
+    paths["fast_model"] = write_rows(fast_rows, output / "fast_model.csv", fast_header)
     paths["figure"] = figure(outcome, needs, output / "sizes.png")
     log.info(
         "wrote %s: %d sizes cover %.1f %% (asked %.1f %%), %d confirmed",
