@@ -142,8 +142,10 @@ def cover(
     share: float,
     most: int,
     offset: tuple[float, float] = (0.0, 0.0),
+    least: int = 1,
 ) -> NDArray[np.float64]:
-    """The edges (K + 1,) m of the fewest sizes (at most ``most``) that cover ``share`` of the
+    """The edges (K + 1,) m of the fewest sizes (at least ``least``, at most ``most``) that
+    cover ``share`` of the
     weight of ``values`` (module docstring, "How many"), each held over the shape terms'
     ``offset`` range (Pa); where ``most`` cannot, the ``most`` sizes that cover the largest
     share."""
@@ -155,7 +157,7 @@ def cover(
     below = cumulative[np.searchsorted(v, starts, side="left")]
     edges = chain(model, band, starts, most, offset)
     best: NDArray[np.float64] | None = None
-    for count in range(1, most + 1):
+    for count in range(min(least, most), most + 1):
         end = edges[:, count]
         covered = cumulative[np.searchsorted(v, end, side="right")] - below
         reach = covered.max()
@@ -299,8 +301,10 @@ def design_chart(
     A size is held over a central share of the people's shape terms at its sizing line
     (`offset_range`): the asked share first, then narrower ones (`SHAPE_SHARES`), since where
     the shape terms spread over more than the band a size of any width would lose people at
-    both ends. Of these charts, the fewest sizes that cover ``share`` of the people (the most
-    covered among equals); where none does, the one that covers most."""
+    both ends. With variants, charts of more sizes than the primary range needs are tried too
+    (narrower sizes hold fewer variants' worth of the secondary measure). Of these charts, the
+    fewest sizes that cover ``share`` of the people (the most covered among equals); where
+    none does, the one that covers most."""
     index = people.complete()
     level = share ** (1.0 / len(measures))
     margins = margin if isinstance(margin, Mapping) else dict.fromkeys(bands, margin)
@@ -309,10 +313,16 @@ def design_chart(
     best: Chart | None = None
     for shape_share in sorted({level, *(s for s in SHAPE_SHARES if s < level)}, reverse=True):
         bends = {line: offset_range(people.offset[line][index], w, shape_share) for line in bands}
-        chart = _chart(people, index, measures, models, bands, search, level, most, variants, bends)
-        chart = Chart(chart.sizes, measures, chart.coverage, share, index)
-        if best is None or _better(chart, best):
-            best = chart
+        for least in range(1, most + 1):  # more sizes than the range needs: narrower variants
+            counts = (least, most)
+            chart = _chart(
+                people, index, measures, models, bands, search, level, counts, variants, bends
+            )
+            chart = Chart(chart.sizes, measures, chart.coverage, share, index)
+            if best is None or _better(chart, best):
+                best = chart
+            if chart.met or len(measures) == 1:
+                break
     assert best is not None
     return best
 
@@ -334,15 +344,17 @@ def _chart(
     bands: Mapping[str, Band],
     search: Mapping[str, Band],
     level: float,
-    most: int,
+    counts: tuple[int, int],
     variants: int,
     bends: Mapping[str, tuple[float, float]],
 ) -> Chart:
-    """One chart of `design_chart`, its sizes held over the shape terms ``bends``."""
+    """One chart of `design_chart`, of ``counts`` (least, most) sizes held over the shape
+    terms ``bends``."""
     primary = measures[0]
     values = people.girth[primary][index]
     w = people.weight[index]
-    edges = cover(values, w, models[primary], search[primary], level, most, bends[primary])
+    least, most = counts
+    edges = cover(values, w, models[primary], search[primary], level, most, bends[primary], least)
     sizes = []
     for k, members in enumerate(_sizes_over(edges, values)):
         name = f"S{k + 1}"

@@ -4,10 +4,11 @@ chart designed for a measured population, one garment per size, confirmed by equ
 1. **The people** (`cloth.files.population`): her girths at the target lines and the sizing
    measures (``--by``), by the chart's names (a survey's ``ankle_cm`` is B).
 2. **Calibrate** the fast model (`cloth.results.tubemodel`) on full equilibria: the people at
-   the primary measure's 5th, 50th and 95th percentile, each wearing the template's pattern cut
-   by Laplace to the low end, the middle and the high end of every band, and of the people in
-   the primary measure's middle fifth those at the 5th and 95th percentile of each shape
-   feature (her stature and girth ratios against the template's), cut to the middle.
+   the primary measure's 5th, 50th and 95th percentile, each wearing a pattern cut by Laplace
+   to the low end, the middle and the high end of every band, and of the people in the
+   primary measure's middle fifth those at the 5th and 95th percentile of each shape feature
+   (her stature and girth ratios against the template's), cut to the middle. Each pattern is
+   cut, as a size's is, on the template's body with her girths at the sizing lines.
 3. **Search** the chart with the fast model (`cloth.results.sizechart`), a margin inside
    every band: the one asked, or by default (``margin`` None) twice the fast model's rms
    error on the equilibria it was fitted to, at least `LEAST_MARGIN`.
@@ -57,6 +58,8 @@ log = logging.getLogger(__name__)
 
 #: The least margin inside a band the search keeps by default, Pa.
 LEAST_MARGIN = 0.5 * MMHG
+#: The reductions a run's pattern may be cut with (the case schema's).
+REDUCTION = (0.0, 0.89)
 #: How far inside a wearer's body a garment's edge is kept, m.
 INSET = 0.002
 #: Quantiles of the primary measure whose people calibrate the fast model.
@@ -185,10 +188,12 @@ class Sizing:
 
     def case_data(
         self, folder: Path, body: tuple[Path, str], pattern: tuple[Path, str], rest: dict
-    ) -> dict:
-        """The case of one run in ``folder``: the case's garment, solver and material, the
+    ) -> tuple[dict, dict[str, float]]:
+        """The case of one run in ``folder`` (the case's garment, solver and material, the
         body ``body`` (chart, size), the pattern cut on ``pattern`` (chart, size) by the
-        reduction profile that gives each line's ``rest`` circumference (m) there."""
+        reduction profile that gives each line's ``rest`` circumference (m) there) and the
+        rest circumferences it cuts: a reduction is kept within `REDUCTION` (a row cannot be
+        cut larger than the body it is cut on)."""
         data = relocated(self.case.to_dict(), self.base_dir, folder)
         extra = {k: v for k, v in self.spec.items() if k in ("surface", "around", "rings")}
         cut_chart, cut_size = pattern
@@ -205,10 +210,12 @@ class Sizing:
         )
         garment.pop("circumference", None)
         garment["pattern"] = {"body": block(*pattern)}
-        garment["reduction"] = {
-            line: float(1.0 - rest[line] / cut.girth[line]) for line in self.lines
+        reduction = {
+            line: float(np.clip(1.0 - rest[line] / cut.girth[line], *REDUCTION))
+            for line in self.lines
         }
-        return data
+        garment["reduction"] = reduction
+        return data, {line: (1.0 - reduction[line]) * cut.girth[line] for line in self.lines}
 
     def row_of(self, chart: Path, size: str) -> dict[str, str]:
         """The row of ``size`` in ``chart``."""
@@ -325,7 +332,10 @@ class Sizing:
                     target = np.nanquantile(values, q)
                     person = int(middle[known][np.argmin(np.abs(values[known] - target))])
                     chosen.setdefault(person, 0.5)
-        rows = [self.person_row(p, f"calibrate_{k + 1}") for k, p in enumerate(chosen)]
+        rows = []
+        for k, person in enumerate(chosen):
+            rows.append(self.person_row(person, f"calibrate_{k + 1}"))
+            rows.append(self.size_body(person, f"calibrate_{k + 1}_size"))
         folder = self.output / "calibration"
         self.write_chart(rows, folder / "people.csv")
         for k, (person, q) in enumerate(
@@ -340,10 +350,9 @@ class Sizing:
                 for line, b in self.bands.items()
             }
             target = folder / name
-            data = self.case_data(
-                target, (folder / "people.csv", name), (self.chart, self.size), rest
-            )
-            runs.append(self.run(name, target, data, girth, rest, self.features_of(person)))
+            bodies = folder / "people.csv"
+            data, cut = self.case_data(target, (bodies, name), (bodies, f"{name}_size"), rest)
+            runs.append(self.run(name, target, data, girth, cut, self.features_of(person)))
         self.learn(runs)
         return runs
 
@@ -361,6 +370,12 @@ class Sizing:
             r.variants,
             self.margins(models),
         )
+
+    def size_body(self, person: int, name: str) -> dict[str, str]:
+        """The body a size centred on person ``person``'s sizing measures would be cut on:
+        the template with her girths at the sizing lines (`size_rows` alike)."""
+        measures = {m: float(self.girths[m][person]) for m in self.request.by}
+        return person_body(self.template, self.points, measures, {}, None, name)
 
     def size_rows(self, chart: Chart) -> list[dict[str, str]]:
         """chart.csv's rows: each size's body at its ranges' centres (`cloth.bodies.person`,
@@ -411,9 +426,9 @@ class Sizing:
         ):
             size = confirmation.size
             pattern = (chart_path, size.name)
-            data = self.case_data(target, body, pattern, size.rest)
+            data, cut = self.case_data(target, body, pattern, size.rest)
             person = confirmation.wearers[name]
-            run = self.run(name, target, data, girth, size.rest, self.features_of(person))
+            run = self.run(name, target, data, girth, cut, self.features_of(person))
             confirmation.runs.append(run)
         return found
 
@@ -424,7 +439,7 @@ class Sizing:
         results = []
         for size in progress(list(chart.sizes), desc="sizes' own bodies", unit="case"):
             folder = self.output / size.name
-            data = self.case_data(
+            data, _ = self.case_data(
                 folder, (chart_path, size.name), (chart_path, size.name), size.rest
             )
             path = folder / "case.yaml"
