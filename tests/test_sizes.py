@@ -510,11 +510,16 @@ def test_the_fast_model_s_error_is_its_rms_on_the_equilibria_it_was_fitted_to(si
     strain = np.asarray(fabric.weft.knot_strain)
     tension = fabric.thickness * np.asarray(fabric.weft.knot_stress)
     residuals = []
-    for row in _table(out / "calibration" / "people.csv"):
-        folder = out / "calibration" / row["size"]
+    bodies = {row["size"]: row for row in _table(out / "calibration" / "people.csv")}
+    for name, row in bodies.items():
+        if name.endswith("_size"):
+            continue  # the body her pattern is cut on: the template with her ankle
+        folder = out / "calibration" / name
         (b,) = [r for r in _table(folder / "summary.csv") if r["landmark"] == "B"]
         reduction = yaml.safe_load((folder / "case.yaml").read_text())["garment"]["reduction"]
-        rest = (1 - reduction["B"]) * t["B_cm"] / 100
+        cut_on = bodies[f"{name}_size"]
+        assert float(cut_on["B_cm"]) == float(row["B_cm"])
+        rest = (1 - reduction["B"]) * float(cut_on["B_cm"]) / 100
         girth = float(row["B_cm"]) / 100
         weft = 2 * np.pi * np.interp(girth / rest - 1, strain, tension) / girth
         shape = {
@@ -548,3 +553,31 @@ def test_the_grid_s_verdict_is_the_stated_errors_against_the_criterion(sized):
             assert stated in ("", "nan")
         tells = bool(pairs) and all(np.isfinite(e) and e <= max(0.01 * p, 0.1) for p, e in pairs)
         assert row["grid_tells"] == str(int(tells))
+
+
+def test_the_written_chart_is_taken_by_cloth_design_sizes_and_the_wearers(sized, tmp_path):
+    from cloth.bodies.wearers import range_wearers
+
+    _, out = sized
+    names = [row["size"] for row in _table(out / "sizes.csv")][:2]
+    case = tmp_path / "case.yaml"
+    case.write_text(
+        "material: powernet\n"
+        f"body: {{leg: {{size: {names[0]}, chart: {out / 'chart.csv'}}}}}\n"
+        "garment: {bottom: 0.09, top: 0.77, grid: [12, 36], edges: sliding,\n"
+        "  lengthwise_reduction: 0.15, reduction: 0.16, error_estimate: false}\n"
+        "solver: {method: newton, tolerance: 1.0e-8, max_iterations: 100}\n"
+    )
+    args = ["--sizes", ",".join(names), "--target", "B=27.5", "-o", str(tmp_path / "d")]
+    code, err = run_cloth("design", str(case), *args)
+    assert code == 0, err
+    rows = _table(tmp_path / "d" / "design_confirmed.csv")
+    assert [r["size"] for r in rows] == names
+    for row in rows:
+        assert float(row["confirmed_mmHg"]) == pytest.approx(27.5, abs=0.5)
+    # the wearers of a designed size: its range's ends (cloth body wearers fits them)
+    targets = chart_targets(out / "chart.csv", names[0])
+    wearers = range_wearers(targets, targets.ranges)
+    ends = sorted({w.targets.girth["B"] for w in wearers.wearers})
+    assert ends[0] == pytest.approx(targets.ranges["B"][0])
+    assert ends[-1] == pytest.approx(targets.ranges["B"][1])
