@@ -37,6 +37,7 @@ include: "workflow/rules/figures.smk"
 include: "workflow/rules/sweep.smk"
 include: "workflow/rules/design.smk"
 include: "workflow/rules/wearers.smk"
+include: "workflow/rules/sizes.smk"
 
 
 rule all:

@@ -76,6 +76,11 @@ class Layout:
         ``wearers.nc``, ``wearers.png``."""
         return f"{self.root}/wearers/{entry}/{name}"
 
+    def size_chart_file(self, name: str, entry: str = "{entry}") -> str:
+        """A file of a size chart entry (`cloth.pipeline.sizecharts`): ``start.yaml``,
+        ``sizes.csv``, ``chart.csv``, ``fabric_requirement.csv``, ``sizes.png``."""
+        return f"{self.root}/size_charts/{entry}/{name}"
+
 
 #: The default config's layout.
 DEFAULT = Layout()

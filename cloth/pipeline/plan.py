@@ -31,6 +31,7 @@ from cloth.files.avatar import avatar_mesh
 from cloth.paths import input_file
 from cloth.pipeline.config import validate_case
 from cloth.pipeline.layout import DEFAULT, Layout, results_folder
+from cloth.pipeline.sizecharts import SizeChartRun, size_chart_runs
 from cloth.pipeline.variants import Variant, sweep_variants
 from cloth.pipeline.wearers import WearersRun, wearer_runs
 from cloth.results.targets import Target
@@ -140,6 +141,8 @@ class Plan:
     designs: dict[str, ProfileDesign] = field(default_factory=dict)
     #: Wearers runs by entry (`cloth.pipeline.wearers`); their cases are in ``cases`` too.
     wearers: dict[str, WearersRun] = field(default_factory=dict)
+    #: Size charts by entry (`cloth.pipeline.sizecharts`).
+    size_charts: dict[str, SizeChartRun] = field(default_factory=dict)
 
     def case(self, name: str, block: dict | None = None, where: str = "cases") -> Case:
         """Case ``name`` of the config (or ``block``) with its material as the ingested file,
@@ -454,6 +457,7 @@ def make_plan(
                 "a case of this name is also a wearers case", "config", f"cases.{name}"
             )
     plan.cases.update(worn)
+    plan.size_charts = size_chart_runs(plan)
     return plan
 
 

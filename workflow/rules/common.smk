@@ -44,9 +44,11 @@ case_file = PLAN.layout.case_file
 sweep_file = PLAN.layout.sweep_file
 design_file = PLAN.layout.design_file
 wearers_file = PLAN.layout.wearers_file
+size_chart_file = PLAN.layout.size_chart_file
 SWEEP_BLOCKS, SWEEP_INDEX, CASES = PLAN.sweep, PLAN.index, PLAN.cases
 DESIGNS = PLAN.designs
 WEARERS = PLAN.wearers
+SIZE_CHARTS = PLAN.size_charts
 #: The wearers runs' cases: they run to result.nc only (no figures or views of their own).
 WEARER_CASES = {name for run in WEARERS.values() for name in run.cases.values()}
 
@@ -54,6 +56,20 @@ WEARER_CASES = {name for run in WEARERS.values() for name in run.cases.values()}
 def wearers_results(wildcards):
     """Every result.nc of a wearers entry (the size's body first)."""
     return [case_file("result.nc", n) for n in WEARERS[wildcards.entry].cases.values()]
+
+
+def size_chart_material(wildcards):
+    return SIZE_CHARTS[wildcards.entry].start.material
+
+
+def size_chart_inputs(wildcards):
+    """A size chart's material and, where given, its population file."""
+    run = SIZE_CHARTS[wildcards.entry]
+    return [run.start.material, *([run.population] if run.population else [])]
+
+
+def size_chart_case_json(wildcards):
+    return json.dumps(SIZE_CHARTS[wildcards.entry].start.to_dict(), sort_keys=True)
 
 
 def wearers_index(wildcards):
@@ -197,10 +213,16 @@ def all_outputs():
             else ("wearers.csv", "wearers.nc", "wearers.png")
         )
     ]
+    size_charts = [
+        size_chart_file(name, entry)
+        for entry in sorted(SIZE_CHARTS)
+        for name in ("sizes.csv", "chart.csv", "fabric_requirement.csv", "sizes.png")
+    ]
     return (
         sweep
         + designs
         + wearers
+        + size_charts
         + [material_file(suffix, m) for m in materials for suffix in ("nc", "png")]
         + [
             case_file(name, case)
