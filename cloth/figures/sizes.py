@@ -25,9 +25,10 @@ from cloth.results.pressure import MMHG
 
 @dataclass(frozen=True)
 class SizeBox:
-    """A size as drawn: ``name``, its ranges (measure -> (low, high), m), its pressure at the
-    primary line against the girth there (``pressure``: (G,) m -> (G,) Pa) and its
-    confirmations at the primary line (girth m, pressure Pa, error Pa)."""
+    """A size as drawn: ``name``, its ranges (measure -> (low, high), m), the fast model's
+    lowest and highest pressure at the primary line against the girth there over the people's
+    central shape terms (``pressure``: (G,) m -> (2, G) Pa) and its confirmations at the
+    primary line (girth m, pressure Pa, error Pa)."""
 
     name: str
     ranges: dict[str, tuple[float, float]]
@@ -61,46 +62,66 @@ def plot_sizes(
     fig, axes = plt.subplots(1, 3, figsize=(16, 5.2), layout="constrained")
     ax = axes[0]
     x = 100 * values[primary]
-    y = 100 * values[measures[1]] if len(measures) > 1 else np.random.default_rng(0).random(len(x))
-    ax.scatter(x[~fits], y[~fits], s=4, c="0.6", label="made to measure")
-    ax.scatter(x[fits], y[fits], s=4, c="tab:green", label="fits a size")
-    for box in boxes:
-        lo, hi = (100 * v for v in box.ranges[primary])
-        if len(measures) > 1 and measures[1] in box.ranges:
-            blo, bhi = (100 * v for v in box.ranges[measures[1]])
-        else:
-            blo, bhi = float(np.min(y)), float(np.max(y))
-        ax.add_patch(plt.Rectangle((lo, blo), hi - lo, bhi - blo, fill=False, lw=1.2))
-        ax.annotate(box.name, (lo, bhi), fontsize=7, va="bottom")
+    if len(measures) > 1:
+        y = 100 * values[measures[1]]
+        ax.scatter(x[~fits], y[~fits], s=4, c="0.6", label="made to measure")
+        ax.scatter(x[fits], y[fits], s=4, c="tab:green", label="fits a size")
+        for box in boxes:
+            lo, hi = (100 * v for v in box.ranges[primary])
+            blo, bhi = (100 * v for v in box.ranges.get(measures[1], (np.nan, np.nan)))
+            ax.add_patch(plt.Rectangle((lo, blo), hi - lo, bhi - blo, fill=False, lw=1.0))
+        ax.set_ylabel(f"{measures[1]} girth [cm]")
+    else:
+        bins = np.linspace(np.min(x), np.max(x), 60)
+        ax.hist(
+            [x[fits], x[~fits]],
+            bins=bins,
+            stacked=True,
+            color=["tab:green", "0.6"],
+            label=["fits a size", "made to measure"],
+        )
+        for box in boxes:
+            for edge in box.ranges[primary]:
+                ax.axvline(100 * edge, color="k", lw=0.6)
+        ax.set_ylabel("people")
     ax.set_xlabel(f"{primary} girth [cm]")
-    ax.set_ylabel(f"{measures[1]} girth [cm]" if len(measures) > 1 else "(people spread)")
-    ax.set_title("the people and the sizes")
-    ax.legend(loc="upper left", fontsize=8, markerscale=3, frameon=True)
+    ax.set_title(f"the people and the sizes ({100 * np.mean(fits):.0f} % fit)")
+    ax.legend(loc="upper right", fontsize=8, markerscale=3)
     ax = axes[1]
-    ax.axhspan(band[0] / MMHG, band[1] / MMHG, color="tab:blue", alpha=0.12, label="band")
-    for box in boxes:
+    ax.axhspan(band[0] / MMHG, band[1] / MMHG, color="tab:blue", alpha=0.10, label="band")
+    for k, box in enumerate(boxes):
         lo, hi = box.ranges[primary]
         g = np.linspace(lo, hi, 40)
-        ax.plot(100 * g, box.pressure(g) / MMHG, lw=1.5)
-        for girth, p, err in box.confirmed:
+        low, high = box.pressure(g) / MMHG
+        colour = f"C{k % 10}"
+        ax.fill_between(100 * g, low, high, color=colour, alpha=0.35, lw=0)
+        for n, (girth, p, err) in enumerate(box.confirmed):
             ax.errorbar(
-                100 * girth, p / MMHG, yerr=err / MMHG if np.isfinite(err) else None, fmt="ko", ms=3
+                100 * girth,
+                p / MMHG,
+                yerr=err / MMHG if np.isfinite(err) else None,
+                fmt="o",
+                color=colour,
+                mec="k",
+                ms=4,
+                label="equilibria" if k == 0 and n == 0 else None,
             )
     ax.set_xlabel(f"{primary} girth [cm]")
     ax.set_ylabel(f"mean pressure at {primary} [mmHg]")
-    ax.set_title("fast model per size (lines), equilibria (dots)")
+    ax.set_title("fast model over the people's shapes (shaded), equilibria (dots)")
     ax.legend(loc="lower right", fontsize=8)
     ax = axes[2]
     top = 0.0
     for k, c in enumerate(corridors):
-        ax.fill_between(c.strain, c.floor, c.roof, alpha=0.25, label=f"R{k + 1}")
+        ax.fill_between(c.strain, c.floor, c.roof, alpha=0.5, label=f"R{k + 1}")
         top = max(top, float(np.max(c.strain)))
-    e = np.linspace(0.0, 1.2 * top if top > 0 else 1.0, 200)
+    e = np.linspace(1e-3, 1.2 * top if top > 0 else 1.0, 300)
     ax.plot(e, tension(e), "k-", lw=1.5, label="the fabric")
+    ax.set_yscale("log")
     ax.set_xlabel("weft strain [1]")
     ax.set_ylabel("weft tension [N/m]")
-    ax.set_title("needed corridors and the fabric")
-    ax.legend(loc="upper left", fontsize=7, ncols=2)
+    ax.set_title("the corridors a chart of the sizes asked needs")
+    ax.legend(loc="lower right", fontsize=7, ncols=2)
     with atomic_output(path) as tmp:
         fig.savefig(tmp, format="png", dpi=110)
     plt.close(fig)

@@ -84,13 +84,16 @@ class Size:
 class Chart:
     """A designed chart: its ``sizes``, the sizing ``measures`` (primary first), the
     ``coverage`` (share of the complete people, by weight, who fit their size), the asked
-    share ``asked``, and ``people`` (indices of the complete people the chart was designed for)."""
+    share ``asked``, ``people`` (indices of the complete people the chart was designed for)
+    and the central ``shape_share`` of their shape terms the sizes are held over."""
 
     sizes: tuple[Size, ...]
     measures: tuple[str, ...]
     coverage: float
     asked: float
     people: NDArray[np.intp] = field(default_factory=lambda: np.zeros(0, dtype=np.intp))
+    #: the central share of the people's shape terms the sizes are held over
+    shape_share: float = 1.0
 
     @property
     def met(self) -> bool:
@@ -318,7 +321,7 @@ def design_chart(
             chart = _chart(
                 people, index, measures, models, bands, search, level, counts, variants, bends
             )
-            chart = Chart(chart.sizes, measures, chart.coverage, share, index)
+            chart = Chart(chart.sizes, measures, chart.coverage, share, index, shape_share)
             if best is None or _better(chart, best):
                 best = chart
             if chart.met or len(measures) == 1:

@@ -501,12 +501,14 @@ def design_sizes(case_path: Path, request: Request, output: Path, overrides: dic
             )
         chart = sizing.search()
         log.info(
-            "round %d: %d sizes cover %.1f %% of %d people (asked %.1f %%)",
+            "round %d: %d sizes cover %.1f %% of %d people (asked %.1f %%), each held over "
+            "the central %.0f %% of their shape terms",
             round_,
             len(chart.sizes),
             100 * chart.coverage,
             len(chart.people),
             100 * request.coverage,
+            100 * chart.shape_share,
         )
         for name in previous:  # a size of the round before that this chart no longer has
             shutil.rmtree(output / name, ignore_errors=True)

@@ -180,7 +180,8 @@ def figure(outcome: Outcome, needs: list[Need], path: Path) -> Path:
     people = chart.people
     fits = np.zeros(len(sizing.people.weight), dtype=bool)
     boxes = []
-    bend = float(np.median(model.calibration.offset(sizing.features[primary][people])))
+    offsets = model.calibration.offset(sizing.features[primary][people])
+    ends = offset_range(offsets, sizing.people.weight[people], chart.shape_share)
     for c in outcome.confirmations:
         fits[c.size.members[c.size.fits]] = True
         rest = c.size.rest[primary]
@@ -188,14 +189,11 @@ def figure(outcome: Outcome, needs: list[Need], path: Path) -> Path:
             (r.girth[primary], r.pressure.get(primary, np.nan), r.error.get(primary, np.nan))
             for r in c.runs
         ]
-        boxes.append(
-            SizeBox(
-                c.size.name,
-                c.size.ranges,
-                lambda g, rest=rest: model.pressure(g, rest, bend),
-                points,
-            )
-        )
+
+        def span(g, rest=rest):
+            return np.stack([model.pressure(g, rest, ends[0]), model.pressure(g, rest, ends[1])])
+
+        boxes.append(SizeBox(c.size.name, c.size.ranges, span, points))
     corridors = []
     for need in needs:
         strain = np.linspace(need.strain_min, need.strain_max, 20)
