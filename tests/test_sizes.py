@@ -581,3 +581,45 @@ def test_the_written_chart_is_taken_by_cloth_design_sizes_and_the_wearers(sized,
     ends = sorted({w.targets.girth["B"] for w in wearers.wearers})
     assert ends[0] == pytest.approx(targets.ranges["B"][0])
     assert ends[-1] == pytest.approx(targets.ranges["B"][1])
+
+
+def corridor_fabric(requirement: Path, path: Path) -> Path:
+    """A lab table (SYNTHETIC, and says so) whose weft is linear through zero at 0.8 x the
+    stiffest linear fabric of ``requirement`` (fabric_requirement.csv) and whose warp is the
+    power net's fitted curve: a fabric inside every corridor of the chart asked for."""
+    from cloth.files.material import load_fabric
+
+    modulus = 0.8 * min(float(r["linear_modulus_N_per_m"]) for r in _table(requirement))
+    net = load_fabric("powernet")
+    lines = [
+        "# SYNTHETIC: made by tests/test_sizes.py inside the corridor cloth sizes asked for;",
+        "# not a measurement",
+        "# name: synthetic corridor weft",
+        f"# thickness_mm: {net.thickness * 1e3:g}",
+        "direction,strain,stress_kPa",
+    ]
+    lines += [f"weft,{e},{modulus * e / net.thickness / 1e3:.9g}" for e in (0, 1, 2, 3)]
+    lines += [
+        f"warp,{e:.9g},{s / 1e3:.9g}"
+        for e, s in zip(net.warp.knot_strain, net.warp.knot_stress, strict=True)
+    ]
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+def test_a_fabric_inside_the_corridor_covers_the_share_when_designed_again(sized, tmp_path):
+    people, out = sized
+    assert all(r["fabric_holds"] == "0" for r in _table(out / "fabric_requirement.csv"))
+    table = corridor_fabric(out / "fabric_requirement.csv", tmp_path / "synthetic.csv")
+    case = tmp_path / "case.yaml"
+    text = (people.parent / "case.yaml").read_text()
+    case.write_text(text.replace("material: powernet", f"material: {table}"))
+    args = ["--population", str(people), "--target", "B=23:32", "--max-sizes", "2"]
+    code, err = run_cloth("sizes", str(case), *args, "-o", str(tmp_path / "again"))
+    assert code == 0, err
+    sizes = _table(tmp_path / "again" / "sizes.csv")
+    assert len(sizes) <= 2
+    assert sum(float(r["fit_share"]) for r in sizes) >= 0.95
+    assert all(r["confirmed"] == "1" for r in sizes), [
+        (r["B_confirmed_min_mmHg"], r["B_confirmed_max_mmHg"]) for r in sizes
+    ]
