@@ -202,6 +202,20 @@ BAD = {
 
 
 @pytest.mark.parametrize("name", sorted(BAD))
+def test_cloth_sizes_refuses_a_bad_population_in_one_line_writing_nothing(leg_case, name):
+    text, column = BAD[name]
+    people = leg_case.parent / "people.csv"
+    people.write_text(text)
+    out = leg_case.parent / "out"
+    args = ["--population", str(people), "--target", "B=23:32"]
+    code, err = run_cloth("sizes", str(leg_case), *args, "-o", str(out))
+    assert code == 2, err
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and "people.csv" in lines[0] and column in lines[0], lines
+    assert not out.exists()
+
+
+@pytest.mark.parametrize("name", sorted(BAD))
 def test_a_bad_population_is_refused_naming_the_file_and_column(tmp_path, name):
     from cloth.errors import InputError
 
