@@ -304,8 +304,9 @@ def design_chart(
     A size is held over a central share of the people's shape terms at its sizing line
     (`offset_range`): the asked share first, then narrower ones (`SHAPE_SHARES`), since where
     the shape terms spread over more than the band a size of any width would lose people at
-    both ends. With variants, charts of more sizes than the primary range needs are tried too
-    (narrower sizes hold fewer variants' worth of the secondary measure). Of these charts, the
+    both ends. With variants, charts of more sizes than the primary range needs are tried too:
+    the same range in more, narrower sizes of equal ratio, whose people spread less over the
+    secondary measure. Of these charts, the
     fewest sizes that cover ``share`` of the people (the most covered among equals); where
     none does, the one that covers most."""
     index = people.complete()
@@ -351,13 +352,15 @@ def _chart(
     variants: int,
     bends: Mapping[str, tuple[float, float]],
 ) -> Chart:
-    """One chart of `design_chart`, of ``counts`` (least, most) sizes held over the shape
-    terms ``bends``."""
+    """One chart of `design_chart`, of at most ``counts[1]`` sizes held over the shape terms
+    ``bends``, split into ``counts[0]`` equal ratios where that is more."""
     primary = measures[0]
     values = people.girth[primary][index]
     w = people.weight[index]
     least, most = counts
-    edges = cover(values, w, models[primary], search[primary], level, most, bends[primary], least)
+    edges = cover(values, w, models[primary], search[primary], level, most, bends[primary])
+    if least > len(edges) - 1:  # more, narrower sizes over the same range, in equal ratios
+        edges = edges[0] * (edges[-1] / edges[0]) ** (np.arange(least + 1) / least)
     sizes = []
     for k, members in enumerate(_sizes_over(edges, values)):
         name = f"S{k + 1}"
