@@ -5,7 +5,9 @@ input."""
 from __future__ import annotations
 
 import csv
+import importlib.util
 import itertools
+import json
 from pathlib import Path
 
 import numpy as np
@@ -637,3 +639,23 @@ def test_a_fabric_inside_the_corridor_covers_the_share_when_designed_again(sized
     assert all(r["confirmed"] == "1" for r in sizes), [
         (r["B_confirmed_min_mmHg"], r["B_confirmed_max_mmHg"]) for r in sizes
     ]
+
+
+@pytest.mark.slow
+@pytest.mark.skipif(
+    importlib.util.find_spec("anny") is None or importlib.util.find_spec("torch") is None,
+    reason="the bodies extra (torch, anny) is not installed: make bodies",
+)
+def test_cloth_body_wearers_fits_a_designed_size_s_range_wearers(sized, tmp_path):
+    _, out = sized
+    (first, *_) = _table(out / "sizes.csv")
+    folder = tmp_path / "wearers"
+    chart = str(out / "chart.csv")
+    args = ["body", "wearers", chart, "--size", first["size"], "--population", "none"]
+    code, err = run_cloth(*args, "-o", str(folder))
+    assert code == 0, err
+    index = json.loads((folder / "wearers.json").read_text())
+    girths = [w["girths_m"]["B"] for w in index["wearers"]]
+    low, high = float(first["B_min_cm"]) / 100, float(first["B_max_cm"]) / 100
+    assert min(girths) == pytest.approx(low, abs=1e-6)
+    assert max(girths) == pytest.approx(high, abs=1e-6)

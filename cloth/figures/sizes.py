@@ -22,6 +22,14 @@ from numpy.typing import NDArray
 from cloth.io import atomic_output
 from cloth.results.pressure import MMHG
 
+#: A person's place, as drawn: label and colour.
+KINDS = (
+    ("fits her size", "tab:green"),
+    ("below a band in her size", "tab:blue"),
+    ("above a band in her size", "tab:red"),
+    ("in no size (made to measure)", "0.6"),
+)
+
 
 @dataclass(frozen=True)
 class SizeBox:
@@ -48,7 +56,7 @@ class Corridor:
 def plot_sizes(
     measures: tuple[str, ...],
     values: dict[str, NDArray[np.float64]],
-    fits: NDArray[np.bool_],
+    kind: NDArray[np.intp],
     boxes: Sequence[SizeBox],
     band: tuple[float, float],
     corridors: Sequence[Corridor],
@@ -56,16 +64,18 @@ def plot_sizes(
     path: Path,
 ) -> Path:
     """Three panels into ``path``: ``values`` (measure -> (P,) m) of the people the chart was
-    designed for, ``fits`` (P,) whether each fits her size; the ``boxes``; the primary line's
-    ``band`` (Pa); the needed ``corridors`` and the fabric's ``tension`` (strain -> N m-1)."""
+    designed for, ``kind`` (P,) each one's place (an index of `KINDS`: in every band of her
+    size, below a band, above one, in no size); the ``boxes``; the primary line's ``band``
+    (Pa); the needed ``corridors`` and the fabric's ``tension`` (strain -> N m-1)."""
     primary = measures[0]
     fig, axes = plt.subplots(1, 3, figsize=(16, 5.2), layout="constrained")
     ax = axes[0]
     x = 100 * values[primary]
+    groups = [(kind == k) for k in range(len(KINDS))]
     if len(measures) > 1:
         y = 100 * values[measures[1]]
-        ax.scatter(x[~fits], y[~fits], s=4, c="0.6", label="made to measure")
-        ax.scatter(x[fits], y[fits], s=4, c="tab:green", label="fits a size")
+        for (label, colour), chosen in zip(KINDS, groups, strict=True):
+            ax.scatter(x[chosen], y[chosen], s=4, c=colour, label=label)
         for box in boxes:
             lo, hi = (100 * v for v in box.ranges[primary])
             blo, bhi = (100 * v for v in box.ranges.get(measures[1], (np.nan, np.nan)))
@@ -74,18 +84,18 @@ def plot_sizes(
     else:
         bins = np.linspace(np.min(x), np.max(x), 60)
         ax.hist(
-            [x[fits], x[~fits]],
+            [x[chosen] for chosen in groups],
             bins=bins,
             stacked=True,
-            color=["tab:green", "0.6"],
-            label=["fits a size", "made to measure"],
+            color=[colour for _, colour in KINDS],
+            label=[label for label, _ in KINDS],
         )
         for box in boxes:
             for edge in box.ranges[primary]:
                 ax.axvline(100 * edge, color="k", lw=0.6)
         ax.set_ylabel("people")
     ax.set_xlabel(f"{primary} girth [cm]")
-    ax.set_title(f"the people and the sizes ({100 * np.mean(fits):.0f} % fit)")
+    ax.set_title(f"the people and the sizes ({100 * np.mean(kind == 0):.0f} % fit)")
     ax.legend(loc="upper right", fontsize=8, markerscale=3)
     ax = axes[1]
     ax.axhspan(band[0] / MMHG, band[1] / MMHG, color="tab:blue", alpha=0.10, label="band")
@@ -128,4 +138,4 @@ def plot_sizes(
     return path
 
 
-__all__ = ["Corridor", "SizeBox", "plot_sizes"]
+__all__ = ["KINDS", "Corridor", "SizeBox", "plot_sizes"]

@@ -169,6 +169,21 @@ def need_rows(outcome: Outcome, needs: list[Need]) -> tuple[list[dict[str, objec
     return rows, header
 
 
+def _places(outcome: Outcome, size) -> np.ndarray:
+    """Each member of ``size``: 0 inside every band, 1 below one, 2 above one (the fast
+    model's; `cloth.figures.sizes.KINDS`)."""
+    sizing = outcome.sizing
+    below = np.zeros(len(size.members), dtype=bool)
+    above = np.zeros(len(size.members), dtype=bool)
+    for line, band in sizing.bands.items():
+        model = outcome.models[line]
+        offset = model.calibration.offset(sizing.features[line][size.members])
+        p = model.pressure(sizing.girths[line][size.members], size.rest[line], offset)
+        below |= p < band.low - 1e-9 * band.high
+        above |= p > band.high * (1 + 1e-9)
+    return np.where(size.fits, 0, np.where(below, 1, 2))
+
+
 def figure(outcome: Outcome, needs: list[Need], path: Path) -> Path:
     """sizes.png (`cloth.figures.sizes`) from the outcome and the needed sizes."""
     from cloth.figures.sizes import Corridor, SizeBox, plot_sizes  # late: matplotlib
@@ -178,12 +193,12 @@ def figure(outcome: Outcome, needs: list[Need], path: Path) -> Path:
     model = outcome.models[primary]
     band = sizing.bands[primary]
     people = chart.people
-    fits = np.zeros(len(sizing.people.weight), dtype=bool)
+    kind = np.full(len(sizing.people.weight), 3)  # in no size (`cloth.figures.sizes.KINDS`)
     boxes = []
     offsets = model.calibration.offset(sizing.features[primary][people])
     ends = offset_range(offsets, sizing.people.weight[people], chart.shape_share)
     for c in outcome.confirmations:
-        fits[c.size.members[c.size.fits]] = True
+        kind[c.size.members] = _places(outcome, c.size)
         rest = c.size.rest[primary]
         points = [
             (r.girth[primary], r.pressure.get(primary, np.nan), r.error.get(primary, np.nan))
@@ -203,7 +218,7 @@ def figure(outcome: Outcome, needs: list[Need], path: Path) -> Path:
     return plot_sizes(
         chart.measures,
         values,
-        fits[people],
+        kind[people],
         boxes,
         (band.low, band.high),
         corridors,
