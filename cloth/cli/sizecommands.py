@@ -8,6 +8,8 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
+from cloth.cli.wearercommands import ages_option
+
 
 def _share(text: str) -> float:
     """A share in (0, 1]."""
@@ -107,14 +109,7 @@ def add_sizes_command(
         default=2,
         help="the most rounds of search and confirmation (default 2)",
     )
-    sizes.add_argument(
-        "--ages",
-        nargs=2,
-        type=float,
-        metavar=("LOW", "HIGH"),
-        default=None,
-        help="ages kept from the population, years (default 18 45)",
-    )
+    ages_option(sizes)
     sizes.add_argument("-o", "--output", type=path, required=True, help="output folder")
     solver_options(sizes)
     sizes.set_defaults(handler="sizes", output_folder=True)

@@ -10,6 +10,18 @@ from pathlib import Path
 from typing import Any
 
 
+def ages_option(command: argparse.ArgumentParser) -> None:
+    """``--ages LOW HIGH``: the ages kept from a population (`cloth.files.population.AGES`)."""
+    command.add_argument(
+        "--ages",
+        nargs=2,
+        type=float,
+        metavar=("LOW", "HIGH"),
+        default=None,
+        help="ages kept from the population, years (default 18 45)",
+    )
+
+
 def add_wearers_commands(
     commands: Any,
     body_commands: Any,
@@ -37,14 +49,7 @@ def add_wearers_commands(
         help="CSV of measured people (docs/bodies.md); 'none': the chart's ranges only "
         "(default: the shipped NHANES survey for a torso chart, ANSUR II for a leg chart)",
     )
-    wearers.add_argument(
-        "--ages",
-        nargs=2,
-        type=float,
-        metavar=("LOW", "HIGH"),
-        default=None,
-        help="ages kept from the population, years (default 18 45)",
-    )
+    ages_option(wearers)
     wearers.add_argument("-o", "--output", type=_path, required=True, help="output folder")
     wearers.set_defaults(handler="body_wearers", output_folder=True)
 

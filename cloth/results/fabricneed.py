@@ -31,7 +31,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from cloth.results.sizechart import Band, span
+from cloth.results.sizechart import Band, central, span
 from cloth.results.tubemodel import LineModel
 
 
@@ -86,12 +86,7 @@ def requirement(
     ``values`` (P,) the primary measure's girths (m) with ``weight`` (P,), ``model`` the fast
     model at its line (its calibration's hoop; its tension whether the given fabric
     holds), held over the shape terms' ``offset`` range (Pa) as the search is."""
-    order = np.argsort(values)
-    v, w = values[order], weight[order]
-    cumulative = np.cumsum(w) - 0.5 * w
-    tail = 0.5 * (1.0 - share) * w.sum()
-    first = float(np.interp(tail, cumulative, v))
-    last = float(np.interp(w.sum() - tail, cumulative, v))
+    first, last = central(values, weight, share)
     edges = first * (last / first) ** (np.arange(most + 1) / most)
     hoop = model.calibration.hoop
     weft_low = band.low - offset[0]

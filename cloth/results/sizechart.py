@@ -42,6 +42,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import NDArray
 
+from cloth.bodies.wearers import weighted_quantile
 from cloth.results.tubemodel import LineModel
 
 #: Bisection steps of a size's end (relative precision about 2^-60 of the bracket).
@@ -256,15 +257,23 @@ def _sizes_over(edges: NDArray[np.float64], values: NDArray[np.float64]) -> list
     return out
 
 
-def offset_range(values: NDArray[np.float64], weight: NDArray[np.float64], share: float):
-    """The central ``share`` of the shape terms ``values`` (Pa) by weight: (low, high)."""
+def central(
+    values: NDArray[np.float64], weight: NDArray[np.float64], share: float
+) -> tuple[float, float]:
+    """The central ``share`` of ``values`` by ``weight``: its (1 - share) / 2 and
+    (1 + share) / 2 weighted quantiles (`cloth.bodies.wearers.weighted_quantile`, Hazen's);
+    (0, 0) for no value."""
     if len(values) == 0:
         return (0.0, 0.0)
-    order = np.argsort(values)
-    v, w = values[order], weight[order]
-    cumulative = np.cumsum(w) - 0.5 * w
-    tail = 0.5 * (1.0 - share) * w.sum()
-    return (float(np.interp(tail, cumulative, v)), float(np.interp(w.sum() - tail, cumulative, v)))
+    tail = 0.5 * (1.0 - share)
+    return (weighted_quantile(values, weight, tail), weighted_quantile(values, weight, 1 - tail))
+
+
+def offset_range(
+    values: NDArray[np.float64], weight: NDArray[np.float64], share: float
+) -> tuple[float, float]:
+    """The central ``share`` of the shape terms ``values`` (Pa) by weight: (low, high)."""
+    return central(values, weight, share)
 
 
 @dataclass(frozen=True)
@@ -420,6 +429,7 @@ __all__ = [
     "Chart",
     "People",
     "Size",
+    "central",
     "centred_rest",
     "chain",
     "cover",
