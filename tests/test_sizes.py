@@ -571,6 +571,7 @@ def test_the_grid_s_verdict_is_the_stated_errors_against_the_criterion(sized):
         assert row["grid_tells"] == str(int(tells))
 
 
+@pytest.mark.slow  # two more commands at CI size (make test-slow; .ci/run runs it)
 def test_the_written_chart_is_taken_by_cloth_design_sizes_and_the_wearers(sized, tmp_path):
     from cloth.bodies.wearers import range_wearers
 
@@ -623,6 +624,7 @@ def corridor_fabric(requirement: Path, path: Path) -> Path:
     return path
 
 
+@pytest.mark.slow  # two more commands at CI size (make test-slow; .ci/run runs it)
 def test_a_fabric_inside_the_corridor_covers_the_share_when_designed_again(sized, tmp_path):
     people, out = sized
     assert all(r["fabric_holds"] == "0" for r in _table(out / "fabric_requirement.csv"))
