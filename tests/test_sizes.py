@@ -661,3 +661,34 @@ def test_cloth_body_wearers_fits_a_designed_size_s_range_wearers(sized, tmp_path
     low, high = float(first["B_min_cm"]) / 100, float(first["B_max_cm"]) / 100
     assert min(girths) == pytest.approx(low, abs=1e-6)
     assert max(girths) == pytest.approx(high, abs=1e-6)
+
+
+# --- the pipeline's size charts -----------------------------------------------------------------
+
+
+def test_the_stocking_config_s_size_chart_is_one_cloth_sizes_job_with_its_options():
+    import yaml
+
+    from cloth.pipeline.plan import make_plan
+
+    config = yaml.safe_load((ROOT / "config" / "stocking.yaml").read_text())
+    run = make_plan(config, ROOT).size_charts["class_II"]
+    assert run.arguments == "--target B=23:32 --by ankle --max-sizes 8"
+    assert run.start.body.kind == "leg" and run.start.garment.grid == (96, 288)
+
+
+@pytest.mark.parametrize(
+    ("body", "words"),
+    [("nobody", "is not defined under bodies"), ("avatar_leg_M", "a leg or torso")],
+)
+def test_a_size_chart_entry_with_a_wrong_body_is_one_line_naming_its_key(body, words):
+    import yaml
+
+    from cloth.errors import InputError
+    from cloth.pipeline.plan import make_plan
+
+    config = yaml.safe_load((ROOT / "config" / "stocking.yaml").read_text())
+    config["size_charts"]["class_II"]["body"] = body
+    with pytest.raises(InputError) as caught:
+        make_plan(config, ROOT)
+    assert words in str(caught.value) and "size_charts.class_II.body" in str(caught.value)

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 
 from cloth.case import Case
 from cloth.errors import InputError
+from cloth.pipeline.wearers import configured_body
 from cloth.results.targets import Target
 
 #: ``cloth sizes`` options an entry may give, config key -> option.
@@ -47,14 +48,7 @@ def size_chart_runs(plan) -> dict[str, SizeChartRun]:
     runs = {}
     for entry, spec in (config.get("size_charts") or {}).items():
         where = f"size_charts.{entry}"
-        bodies = config.get("bodies", {})
-        if spec["body"] not in bodies:
-            raise InputError(
-                f"body {spec['body']!r} is not defined under bodies "
-                f"({', '.join(sorted(bodies)) or 'none defined'})",
-                "config",
-                f"{where}.body",
-            )
+        configured_body(config, spec["body"], f"{where}.body")
         own = plan.body_block(spec["body"])
         if not any(k in own and "size" in own[k] for k in ("leg", "torso")):
             raise InputError(

@@ -67,21 +67,27 @@ def wearers_folder(body: dict, folder: str | None, where: str, data_path) -> tup
         raise InputError(exc.detail, "config", exc.field) from None
 
 
+def configured_body(config: dict, name: str, field: str) -> dict:
+    """The body block ``name`` under the config's ``bodies``; one line at ``field`` where it
+    is not there."""
+    bodies = config.get("bodies", {})
+    if name not in bodies:
+        raise InputError(
+            f"body {name!r} is not defined under bodies "
+            f"({', '.join(sorted(bodies)) or 'none defined'})",
+            "config",
+            field,
+        )
+    return bodies[name]
+
+
 def wearers_blocks(plan, entry: str) -> tuple[dict[str, dict], str]:
     """Wearer -> case block of the config's wearers ``entry`` (module docstring), the size's
     body first, and its index file."""
     config = plan.config
     spec = config["wearers"][entry]
     where = f"wearers.{entry}"
-    bodies = config.get("bodies", {})
-    if spec["body"] not in bodies:
-        raise InputError(
-            f"body {spec['body']!r} is not defined under bodies "
-            f"({', '.join(sorted(bodies)) or 'none defined'})",
-            "config",
-            f"{where}.body",
-        )
-    body = bodies[spec["body"]]
+    body = configured_body(config, spec["body"], f"{where}.body")
     folder, index = wearers_folder(body, spec.get("folder"), where, plan.found)
     own = plan.body_block(spec["body"])
     sweep = config.get("sweep") or {}
@@ -168,6 +174,7 @@ __all__ = [
     "MESH_OPTIONS",
     "WearersRun",
     "case_name",
+    "configured_body",
     "wearer_blocks",
     "wearer_runs",
     "wearers_blocks",
