@@ -7,6 +7,7 @@ from pathlib import Path
 from typing import NoReturn
 
 from cloth import __version__
+from cloth.cli.argtypes import amount
 from cloth.cli.sizecommands import add_sizes_command
 from cloth.cli.wearercommands import add_wearers_commands
 from cloth.errors import EXIT_INPUT
@@ -44,15 +45,8 @@ def _sizes(text: str) -> list[str]:
     return names
 
 
-def _millimetres(text: str) -> float:
-    """A length in mm, >= 0 and finite."""
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"give a length in mm, got {text!r}") from None
-    if not (value >= 0 and value < float("inf")):
-        raise argparse.ArgumentTypeError(f"must be a length >= 0 in mm, got {text}")
-    return value
+#: A length in mm, >= 0 and finite.
+_millimetres = amount("length", "mm")
 
 
 def _pattern_options(command: argparse.ArgumentParser) -> None:

@@ -8,6 +8,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
+from cloth.cli.argtypes import amount
 from cloth.cli.wearercommands import ages_option
 
 
@@ -30,17 +31,6 @@ def _count(text: str) -> int:
         raise argparse.ArgumentTypeError(f"give a whole number, got {text!r}") from None
     if value < 1:
         raise argparse.ArgumentTypeError(f"must be >= 1, got {value}")
-    return value
-
-
-def _mmhg(text: str) -> float:
-    """A pressure >= 0, mmHg."""
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"give a pressure in mmHg, got {text!r}") from None
-    if not 0 <= value < float("inf"):
-        raise argparse.ArgumentTypeError(f"must be a pressure >= 0 in mmHg, got {text}")
     return value
 
 
@@ -98,7 +88,7 @@ def add_sizes_command(
     )
     sizes.add_argument(
         "--margin",
-        type=_mmhg,
+        type=amount("pressure", "mmHg"),
         default=None,
         help="how far inside every band the search keeps the fast model, mmHg (default: twice "
         "its rms error on the equilibria it was calibrated on, at least 0.5)",

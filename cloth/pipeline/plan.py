@@ -34,7 +34,7 @@ from cloth.pipeline.layout import DEFAULT, Layout, results_folder
 from cloth.pipeline.sizecharts import SizeChartRun, size_chart_runs
 from cloth.pipeline.variants import Variant, sweep_variants
 from cloth.pipeline.wearers import WearersRun, wearer_runs
-from cloth.results.targets import Target
+from cloth.results.targets import config_targets
 
 
 def data_path(path: str, base: str | Path | None) -> str:
@@ -315,13 +315,8 @@ def profile_design(plan: Plan, name: str) -> ProfileDesign:
             "solver": sweep.get("solver", {}),
         }
         cases[body] = plan.case(name, block, "profile_designs")
-    targets = []
-    for number, text in enumerate(design["targets"]):
-        try:
-            Target.parse(text)
-        except InputError as exc:
-            raise InputError(exc.detail, "config", f"{where}.targets.{number}") from None
-        targets.append(text)
+    config_targets(design["targets"], f"{where}.targets")
+    targets = list(design["targets"])
     lines = [text.split("=", 1)[0].strip() for text in targets]
     if len(set(lines)) != len(lines):
         raise InputError(

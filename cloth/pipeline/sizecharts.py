@@ -17,7 +17,7 @@ from dataclasses import dataclass
 from cloth.case import Case
 from cloth.errors import InputError
 from cloth.pipeline.wearers import configured_body
-from cloth.results.targets import Target
+from cloth.results.targets import config_targets
 
 #: ``cloth sizes`` options an entry may give, config key -> option.
 OPTIONS = {
@@ -71,13 +71,8 @@ def size_chart_runs(plan) -> dict[str, SizeChartRun]:
         except InputError as exc:
             field = (exc.field or "").replace(f"size_charts.size_charts__{entry}", where)
             raise InputError(exc.detail, "config", field or where) from None
-        words = []
-        for number, text in enumerate(spec["targets"]):
-            try:
-                Target.parse(text)
-            except InputError as exc:
-                raise InputError(exc.detail, "config", f"{where}.targets.{number}") from None
-            words += ["--target", text]
+        config_targets(spec["targets"], f"{where}.targets")
+        words = [word for text in spec["targets"] for word in ("--target", text)]
         for key, option in OPTIONS.items():
             if key in spec:
                 words += [option, str(spec[key])]

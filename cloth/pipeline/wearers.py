@@ -25,7 +25,7 @@ from cloth.case import Case
 from cloth.errors import InputError
 from cloth.files.wearers import INDEX, body_wearers, read_index
 from cloth.pipeline.variants import variation_cases
-from cloth.results.targets import Target
+from cloth.results.targets import config_targets
 
 log = logging.getLogger(__name__)
 
@@ -149,13 +149,7 @@ def wearer_runs(plan) -> tuple[dict[str, WearersRun], dict[str, Case]]:
     for entry, spec in (plan.config.get("wearers") or {}).items():
         blocks, index = wearers_blocks(plan, entry)
         if "targets" in spec:  # a robust design: one job (cloth design --wearers)
-            for number, text in enumerate(spec["targets"]):
-                try:
-                    Target.parse(text)
-                except InputError as exc:
-                    raise InputError(
-                        exc.detail, "config", f"wearers.{entry}.targets.{number}"
-                    ) from None
+            config_targets(spec["targets"], f"wearers.{entry}.targets")
             start = dict(blocks[SIZE])
             start["garment"] = {k: v for k, v in start["garment"].items() if k != "pattern"}
             case = _case(plan, entry, SIZE, start)

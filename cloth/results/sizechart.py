@@ -146,10 +146,8 @@ def cover(
     share: float,
     most: int,
     offset: tuple[float, float] = (0.0, 0.0),
-    least: int = 1,
 ) -> NDArray[np.float64]:
-    """The edges (K + 1,) m of the fewest sizes (at least ``least``, at most ``most``) that
-    cover ``share`` of the
+    """The edges (K + 1,) m of the fewest sizes (at most ``most``) that cover ``share`` of the
     weight of ``values`` (module docstring, "How many"), each held over the shape terms'
     ``offset`` range (Pa); where ``most`` cannot, the ``most`` sizes that cover the largest
     share."""
@@ -161,7 +159,7 @@ def cover(
     below = cumulative[np.searchsorted(v, starts, side="left")]
     edges = chain(model, band, starts, most, offset)
     best: NDArray[np.float64] | None = None
-    for count in range(min(least, most), most + 1):
+    for count in range(1, most + 1):
         end = edges[:, count]
         covered = cumulative[np.searchsorted(v, end, side="right")] - below
         reach = covered.max()

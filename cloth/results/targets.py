@@ -57,3 +57,15 @@ class Target:
             )
         unit = (match.group(3) or "mmHg").lower()
         return cls(match.group(1), value * UNITS[unit])
+
+
+def config_targets(texts: list[str], where: str) -> list[Target]:
+    """The targets of a pipeline config's list ``texts`` (`Target.parse`), the one refused
+    named by its config key ``{where}.{number}``."""
+    out = []
+    for number, text in enumerate(texts):
+        try:
+            out.append(Target.parse(text))
+        except InputError as exc:
+            raise InputError(exc.detail, "config", f"{where}.{number}") from None
+    return out

@@ -356,10 +356,9 @@ class Sizing:
         self.learn(runs)
         return runs
 
-    def search(self) -> Chart:
-        """Step 3."""
+    def search(self, models: dict[str, LineModel]) -> Chart:
+        """Step 3, with the fast ``models`` of this round."""
         r = self.request
-        models = self.models()
         return design_chart(
             self.population(models),
             r.by,
@@ -390,10 +389,10 @@ class Sizing:
             rows.append(row)
         return rows
 
-    def extremes(self, size: Size) -> dict[str, int]:
-        """The size's extreme wearers (module docstring, step 4): name -> person index."""
+    def extremes(self, size: Size, models: dict[str, LineModel]) -> dict[str, int]:
+        """The size's extreme wearers by the fast ``models`` (module docstring, step 4): name
+        -> person index."""
         members = size.members[size.fits] if size.fits.any() else size.members
-        models = self.models()
         out: dict[str, int] = {}
         for line in self.lines:
             g = self.girths[line][members]
@@ -405,12 +404,14 @@ class Sizing:
                     out[f"{line}_{end}"] = person
         return out
 
-    def confirm(self, chart: Chart, chart_path: Path) -> list[Confirmation]:
-        """Step 4: every size on its extreme wearers, and on its own body (``size``)."""
+    def confirm(
+        self, chart: Chart, chart_path: Path, models: dict[str, LineModel]
+    ) -> list[Confirmation]:
+        """Step 4: every size on its extreme wearers by the fast ``models``."""
         found = []
         jobs = []
         for size in chart.sizes:
-            wearers = self.extremes(size) if len(size.members) else {}
+            wearers = self.extremes(size, models) if len(size.members) else {}
             folder = self.output / size.name / "confirm"
             rows = [self.person_row(p, n) for n, p in wearers.items()]
             if rows:
@@ -499,7 +500,7 @@ def design_sizes(case_path: Path, request: Request, output: Path, overrides: dic
                 errors[line] / MMHG,
                 len(sizing.calibration[line][2]),
             )
-        chart = sizing.search()
+        chart = sizing.search(models)
         log.info(
             "round %d: %d sizes cover %.1f %% of %d people (asked %.1f %%), each held over "
             "the central %.0f %% of their shape terms",
@@ -514,7 +515,7 @@ def design_sizes(case_path: Path, request: Request, output: Path, overrides: dic
             shutil.rmtree(output / name, ignore_errors=True)
         previous = [size.name for size in chart.sizes]
         sizing.write_chart(sizing.size_rows(chart), chart_path)
-        confirmations = sizing.confirm(chart, chart_path)
+        confirmations = sizing.confirm(chart, chart_path, models)
         if all(confirmed(c, sizing.bands) for c in confirmations) or round_ == request.rounds:
             break
         sizing.learn([run for c in confirmations for run in c.runs])
