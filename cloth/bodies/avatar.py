@@ -100,6 +100,9 @@ TOLERANCE = 1e-3
 REGULARISATION = 1e-3
 #: The crop keeps the chart's span plus this much (m) above and below.
 CROP_MARGIN = 0.05
+#: The cropped mesh's coordinates are rounded to this many decimals of a metre (1 nm) before
+#: float32, so round-off on a cut plane does not reach the file's bytes.
+SNAP_DECIMALS = 9
 #: Finite-difference step of the fit (relative, in the parameters' units, 0-1), taken both ways:
 #: a local change has a kink at 0 (its "incr" target above, its "decr" below), where a
 #: one-sided difference sees one slope only and the fit of leg L stalled 32 mm off.
@@ -567,5 +570,8 @@ def crop(avatar: Avatar) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
             "the cropped avatar is not a closed, outward mesh; report this with the chart",
             field="crop",
         )
-    vertices = np.asarray(mesh.vertices, dtype=np.float32).astype(np.float64)
+    # a cut leaves its plane's points at round-off (1e-19 m) of either sign, which differs between
+    # machines; snapped to the nanometre (and -0 made 0), the file is the same bytes everywhere
+    snapped = np.round(np.asarray(mesh.vertices, dtype=np.float64), SNAP_DECIMALS) + 0.0
+    vertices = snapped.astype(np.float32).astype(np.float64)
     return vertices, np.asarray(mesh.faces, dtype=np.int64)
