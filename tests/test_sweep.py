@@ -298,8 +298,9 @@ def test_confirm_reads_each_answered_row_s_result_and_its_error(swept, tmp_path)
 
 
 def test_the_design_figure_draws_each_line_its_errors_and_the_target(swept, tmp_path, monkeypatch):
-    """design.png: per girth line the mean against the reduction in %, in mmHg, at the first
-    worn value (new), its stated errors as bars, the worn spread shaded, the target level."""
+    """design.png: a panel per girth line, the mean against the reduction in %, in mmHg, one
+    line per variant (new and worn, each its own style, the body's one colour), its stated
+    errors as bars, the target level; the legend below the panels, in no panel."""
     import cloth.pipeline.designplots
 
     index, paths = swept
@@ -309,20 +310,29 @@ def test_the_design_figure_draws_each_line_its_errors_and_the_target(swept, tmp_
         cloth.pipeline.designplots, "save_figure", lambda fig, path: drawn.setdefault("fig", fig)
     )
     plot_design(ds, [{"landmark": "waist", "pressure_mmHg": 12.0}], tmp_path / "d.png")
-    waist, hip = drawn["fig"].axes
+    fig = drawn["fig"]
+    waist, hip = fig.axes
     assert (waist.get_title(), hip.get_title()) == ("waist", "hip")
-    line = waist.lines[0]
-    np.testing.assert_allclose(line.get_xdata(), [10.0, 20.0])
-    np.testing.assert_allclose(line.get_ydata(), np.array([1000.0, 2000.0]) / MMHG)
+    new, worn = waist.containers  # one errorbar line per variant
+    for container, factor, error in ((new, 1.0, 10.0), (worn, 0.8, 20.0)):
+        line = container.lines[0]
+        np.testing.assert_allclose(line.get_xdata(), [10.0, 20.0])
+        np.testing.assert_allclose(line.get_ydata(), factor * np.array([1000.0, 2000.0]) / MMHG)
+        segments = np.asarray(container.lines[2][0].get_segments())  # +- its error at each
+        np.testing.assert_allclose(np.ptp(segments[:, :, 1], axis=1), 2 * error / MMHG)
+    assert new.lines[0].get_color() == worn.lines[0].get_color()
+    assert new.lines[0].get_linestyle() != worn.lines[0].get_linestyle()
+    assert [c.get_label() for c in waist.containers] == ["b", "b, worn"]
+    assert not waist.collections or all(
+        "spread" not in str(c.get_label()) for c in waist.collections
+    )
     target = [ln for ln in waist.lines if ln.get_label() == "target"]
     assert len(target) == 1 and np.allclose(target[0].get_ydata(), 12.0)
     assert not [ln for ln in hip.lines if ln.get_label() == "target"]
-    bars = waist.collections[-1] if not waist.containers else waist.containers[0][2][0]
-    segments = np.asarray(bars.get_segments())  # the error bars: +- 10 Pa at each reduction
-    np.testing.assert_allclose(np.ptp(segments[:, :, 1], axis=1), 2 * 10.0 / MMHG)
-    spread = [c for c in waist.collections if "spread over worn" in str(c.get_label())]
-    assert len(spread) == 1
-    # the real file
+    assert waist.get_legend() is None and hip.get_legend() is None
+    (legend,) = fig.legends
+    assert [t.get_text() for t in legend.get_texts()] == ["b", "b, worn", "target"]
+    # the real file: the legend below every panel
     monkeypatch.undo()
     path = plot_design(ds, [{"landmark": "waist", "pressure_mmHg": 12.0}], tmp_path / "d.png")
     assert path.stat().st_size > 10_000

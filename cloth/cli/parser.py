@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 from pathlib import Path
-from typing import NoReturn
+from typing import Any, NoReturn
 
 from cloth import __version__
 from cloth.cli.argtypes import amount
@@ -19,6 +19,13 @@ class Parser(argparse.ArgumentParser):
 
     def error(self, message: str) -> NoReturn:
         self.exit(EXIT_INPUT, f"cloth: error: {message}; see {self.prog} --help\n")
+
+    def add_subparsers(self, **kwargs: Any) -> Any:
+        """argparse's, its commands kept in `commands` (name -> parser, in the order added) for
+        the generated reference (docs/reference/cli.md)."""
+        action = super().add_subparsers(**kwargs)
+        self.commands: dict[str, argparse.ArgumentParser] = action.choices
+        return action
 
 
 def _path(text: str) -> Path:

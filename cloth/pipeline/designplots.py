@@ -14,59 +14,60 @@ from cloth.pipeline.sweep import combinations, mean_error, target_pa, variant_di
 from cloth.pipeline.variants import Variant
 from cloth.results.pressure import MMHG
 
+#: Panels per row of design.png (a stocking's seven points wrap onto two rows).
+PANELS_PER_ROW = 4
+#: Line styles of a sweep's variants (lengthwise reduction, tissue, ...), in the order of their
+#: combinations; a body's colour is the same in every panel.
+VARIANT_STYLES = ("-", "--", ":", "-.")
+VARIANT_MARKERS = ("o", "s", "^", "D")
+
 
 def plot_design(ds: xr.Dataset, targets: list[dict], path: str | Path) -> Path:
-    """Landmark pressure against reduction per fabric and body, with the class bands in the
-    panel of the class point where the sweep's lines include it (`class_bands`); a
-    sweep with variants draws each line at every key's first value and shades the spread that
-    each varied key causes (`cloth.pipeline.variants`)."""
+    """Landmark pressure against reduction, one panel per girth line (`PANELS_PER_ROW` to a
+    row): one line per fabric, body and variant (a colour per fabric and body, a line style
+    per variant, e.g. the lengthwise reduction), each with its stated errors as bars; the
+    class bands in the panel of the class point where the sweep's lines include it
+    (`class_bands`); the targets dashed black. The legend sits below the panels, over no data."""
     landmarks = ds["landmark"].values.tolist()
+    columns = min(PANELS_PER_ROW, len(landmarks))
+    rows = -(-len(landmarks) // columns)
     fig, axes = plt.subplots(
-        1,
-        len(landmarks),
-        figsize=(3.6 * len(landmarks), 3.8),
+        rows,
+        columns,
+        figsize=(3.4 * columns, 3.2 * rows + 0.9),
         sharey=True,
         layout="constrained",
         squeeze=False,
     )
     bands = class_bands(ds)
     point = judge_of(ds).class_point
-    for ax, landmark in zip(axes[0], landmarks, strict=True):
+    percent = 100 * ds["reduction"].values
+    variants = combinations(ds, variant_dims(ds))
+    bodies = combinations(ds, ("material", "body"))
+    colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    for ax, landmark in zip(axes.flat, landmarks, strict=False):
         for name, lo, hi in bands if landmark == point else []:
             ax.axhspan(lo, hi, color="tab:red", alpha=0.08, gid="class-band")
-            ax.text(
-                ds["reduction"].values.min(),
-                (lo + hi) / 2,
-                f" class {name}",
-                fontsize=7,
-                va="center",
-            )
-        percent = 100 * ds["reduction"].values
-        variants = variant_dims(ds)
-        first = {dim: ds[dim].values[0] for dim in variants}  # the line: each key's first value
-        for where in combinations(ds, ("material", "body")):
-            line = ds["pressure_mean"].sel(where | first | {"landmark": landmark}) / MMHG
-            label = ", ".join(
-                [str(v) for v in where.values()]
-                + [Variant.of({d: v for d, v in first.items()}).label()]
-            ).strip(", ")
-            bars = mean_error(ds).sel(where | first | {"landmark": landmark}).values / MMHG
-            drawn = ax.errorbar(
-                percent, line.values, yerr=np.nan_to_num(bars), fmt="o-", capsize=2, label=label
-            ).lines[0]
-            for hatch, dim in zip(("", "//", ".."), variants, strict=False):
-                if ds.sizes[dim] < 2:
-                    continue  # the spread each varied key causes, the others at their first
-                others = {d: v for d, v in first.items() if d != dim}
-                spread = ds["pressure_mean"].sel(where | others | {"landmark": landmark}) / MMHG
-                ax.fill_between(
+            ax.text(percent.min(), (lo + hi) / 2, f" class {name}", fontsize=7, va="center")
+        for k, where in enumerate(bodies):
+            for j, variant in enumerate(variants):
+                at = where | variant | {"landmark": landmark}
+                line = ds["pressure_mean"].sel(at).values / MMHG
+                bars = mean_error(ds).sel(at).values / MMHG
+                names = [where["material"]] if ds.sizes["material"] > 1 else []
+                label = ", ".join(
+                    [*map(str, names), str(where["body"]), Variant.of(variant).label()]
+                ).strip(", ")
+                ax.errorbar(
                     percent,
-                    spread.min(dim).values,
-                    spread.max(dim).values,
-                    color=drawn.get_color(),
-                    alpha=0.15,
-                    hatch=hatch,
-                    label=f"{label}: spread over {dim.replace('_', ' ')}",
+                    line,
+                    yerr=np.nan_to_num(bars),
+                    fmt=VARIANT_MARKERS[j % len(VARIANT_MARKERS)],
+                    ls=VARIANT_STYLES[j % len(VARIANT_STYLES)],
+                    color=colours[k % len(colours)],
+                    ms=4,
+                    capsize=2,
+                    label=label,
                 )
         for target in targets:
             if target["landmark"] == landmark:
@@ -74,8 +75,24 @@ def plot_design(ds: xr.Dataset, targets: list[dict], path: str | Path) -> Path:
         ax.set_title(landmark)
         ax.set_xlabel("pattern reduction [%]")
         ax.grid(alpha=0.3)
-    axes[0][0].set_ylabel("mean pressure on the girth line [mmHg]")
-    axes[0][-1].legend(fontsize=7)
+    for ax in axes.flat[len(landmarks) :]:
+        ax.set_visible(False)
+    for ax in axes[:, 0]:
+        ax.set_ylabel("mean pressure [mmHg]")
+    handles: dict[str, object] = {}
+    for ax in axes.flat[: len(landmarks)]:
+        for handle, label in zip(*ax.get_legend_handles_labels(), strict=True):
+            handles.setdefault(label, handle)
+    if "target" in handles:
+        handles["target"] = handles.pop("target")  # after the lines
+    fig.legend(
+        list(handles.values()),
+        list(handles.keys()),
+        loc="outside lower center",
+        ncol=min(len(handles), 3),
+        fontsize=8,
+        frameon=False,
+    )
     return save_figure(fig, path)
 
 
