@@ -21,7 +21,7 @@ export PATH := $(CURDIR)/$(BIN):$(PATH)
 export MPLBACKEND := Agg
 
 .PHONY: run test test-slow test-cluster test-browser test-all lint unit bench clean install mutate \
-	bodies avatars wearers
+	bodies avatars wearers docs
 
 install: $(STAMP)
 
@@ -48,6 +48,12 @@ unit: $(STAMP)
 	$(BIN)/python -m pytest -q -n 2 --dist loadscope
 
 test: lint unit
+
+# the guide as a site in site/ (MkDocs, Material theme), strict: a broken link, a missing page or
+# a generated reference page out of date fails (docs/generate_reference.py writes them)
+docs: $(STAMP)
+	$(BIN)/python docs/generate_reference.py
+	NO_MKDOCS_2_WARNING=1 $(BIN)/mkdocs build --strict --quiet
 
 # the body model for avatars (cloth body avatar; docs/bodies.md): torch (CPU) and anny, the
 # extra bodies; where it does not install, the tests that fit avatars skip in one line
@@ -102,4 +108,4 @@ bench: $(STAMP)
 	$(BIN)/python benchmarks/bench_bodies.py
 
 clean:
-	rm -rf results results-* .snakemake
+	rm -rf results results-* .snakemake site

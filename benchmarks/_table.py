@@ -8,7 +8,7 @@ import time
 from collections.abc import Callable
 from pathlib import Path
 
-PERFORMANCE = Path(__file__).resolve().parents[1] / "docs" / "performance.md"
+PERFORMANCE = Path(__file__).resolve().parents[1] / "docs" / "measurements" / "performance-log.md"
 
 
 def median_seconds(work: Callable[[], object], repeat: int = 7, warmup: int = 1) -> float:
