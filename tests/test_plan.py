@@ -27,9 +27,28 @@ ROOT = Path(__file__).resolve().parents[1]
 CONFIG = yaml.safe_load((ROOT / "config/config.yaml").read_text())
 
 
-def test_the_default_sweep_expands_to_every_material_body_and_reduction():
+STUDY = yaml.safe_load((ROOT / "config/study.yaml").read_text())
+
+
+def test_the_default_config_answers_size_m_in_twelve_cases():
+    """make run: torso M and its avatar, reductions 0.15, 0.20, 0.25, each with lengthwise 0
+    and 0.10, at 288 x 144; 20 mmHg at the waist for both bodies; the graded design on
+    torso M."""
     plan = make_plan(CONFIG, ROOT)
-    sweep = CONFIG["sweep"]
+    assert len(plan.index) == len(plan.sweep) == len(plan.cases) == 12
+    assert sorted({e["body"] for e in plan.index}) == ["avatar_M", "torso_M"]
+    assert sorted({e["reduction"] for e in plan.index}) == [0.15, 0.2, 0.25]
+    assert sorted({e["lengthwise_reduction"] for e in plan.index}) == [0.0, 0.1]
+    assert {tuple(case.garment.grid) for case in plan.cases.values()} == {(288, 144)}
+    assert CONFIG["targets"] == [{"landmark": "waist", "pressure_mmHg": 20}]
+    assert set(plan.designs) == {"graded"} and CONFIG["profile_designs"]["graded"]["body"] == (
+        "torso_M"
+    )
+
+
+def test_the_study_sweep_expands_to_every_material_body_and_reduction():
+    plan = make_plan(STUDY, ROOT)
+    sweep = STUDY["sweep"]
     count = (
         len(sweep["materials"])
         * len(sweep["bodies"])
@@ -104,7 +123,7 @@ def _chart_of(bodies: list[str]):
     ],
 )
 def test_a_bad_config_is_refused_naming_its_key(change, field):
-    config = copy.deepcopy(CONFIG)
+    config = copy.deepcopy(STUDY)  # two sizes of the torso
     change(config)
     with pytest.raises(InputError) as error:
         make_plan(config, ROOT)
@@ -112,7 +131,7 @@ def test_a_bad_config_is_refused_naming_its_key(change, field):
 
 
 def test_a_chart_design_has_a_case_per_body_in_order_and_its_pattern_options():
-    config = copy.deepcopy(CONFIG)
+    config = copy.deepcopy(STUDY)
     graded = config["profile_designs"]["graded"]
     graded.pop("body")
     graded.update(bodies=["torso_M", "torso_S"], pattern={"cut": "tube", "seam_allowance_mm": 0})
