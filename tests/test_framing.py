@@ -20,7 +20,7 @@ import xarray as xr
 from mpl_toolkits.mplot3d import proj3d
 
 from cloth.figures.drawing import body_band, garment_positions
-from cloth.figures.onbody import body_figure, framed_points
+from cloth.figures.onbody import body_figure, drawn_share, framed_points
 from cloth.figures.plots import class_bands
 from cloth.figures.view import EYE_DISTANCE, scene_frame
 from tests.conftest import load_result
@@ -77,17 +77,6 @@ def results(tmp_path_factory) -> dict[str, xr.Dataset]:
     return {name: load_result(folder / name, case) for name, case in _cases(folder).items()}
 
 
-def _box_share(ax, points: np.ndarray) -> tuple[float, float]:
-    """The shares of ``ax``'s panel (the figure's cell it was given, before a 3D axes makes
-    its own box square) in height and width that ``points`` ((P, 3), m) fill as drawn."""
-    x, y, _ = proj3d.proj_transform(*points.T, ax.get_proj())
-    shown = ax.transData.transform(np.column_stack([x, y]))
-    box = ax.get_position(original=True).transformed(ax.figure.transFigure)
-    height = (shown[:, 1].max() - shown[:, 1].min()) / box.height
-    width = (shown[:, 0].max() - shown[:, 0].min()) / box.width
-    return float(height), float(width)
-
-
 @pytest.mark.parametrize("name", ["torso", "leg", "scan"])
 def test_the_body_fills_its_panel_and_the_labels_sit_beside_it(results, name):
     ds = results[name]
@@ -99,7 +88,7 @@ def test_the_body_fills_its_panel_and_the_labels_sit_beside_it(results, name):
     views = [ax for ax in fig.axes if ax.name == "3d"]
     assert len(views) == 3
     for ax in views:
-        height, width = _box_share(ax, points)
+        height, width = drawn_share(ax, points)
         assert height >= HEIGHT_SHARE, (name, ax.get_title(), height)
         assert width >= WIDTH_SHARE, (name, ax.get_title(), width)
         # every girth label starts right of the body as drawn at its own height (beside it,

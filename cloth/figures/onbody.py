@@ -28,6 +28,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 import xarray as xr
 from matplotlib import cm, colors
+from mpl_toolkits.mplot3d import proj3d
 from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 from numpy.typing import NDArray
 
@@ -62,6 +63,9 @@ ZOOM = 1.25
 PANEL_HEIGHT = 5.0
 #: Share of a tall panel's height its zoomed box may take (`_tallness`).
 TALL_FILL = 0.82
+#: Share of its panel's width a view's box (the body and its girth labels' room) may take once
+#: drawn (`fill_panels`); its height may take `TALL_FILL`.
+WIDE_FILL = 0.95
 
 
 def _quads(points: NDArray, values: NDArray, closed: bool):
@@ -191,6 +195,42 @@ def draw_view(
     ax.patch.set_visible(False)  # a neighbour's labels reach into this panel
 
 
+def fill_panels(fig: plt.Figure) -> None:
+    """Zoom every 3D view of the laid-out ``fig`` that is not tall (`_tallness`) so that its
+    box, as drawn, fills its panel: `TALL_FILL` of its height or `WIDE_FILL` of its width,
+    whichever binds. matplotlib fits a box by its diagonal, so a box wider than tall (a short
+    band of a torso, its labels' room beside it) was drawn in the middle half of its panel (an
+    avatar's band read 0.48 of the height). The projection is orthographic, so the drawn size
+    scales with the zoom."""
+    fig.canvas.draw()  # the constrained layout places the panels
+    for ax in fig.axes:
+        if ax.name != "3d" or _tallness(ax) > 1.0:  # a tall panel's box is zoomed to its height
+            continue
+        corners = _box_corners(ax)
+        spans = tuple(corners.max(axis=0) - corners.min(axis=0))  # draw_view's box aspect
+        ax.set_box_aspect(spans, zoom=1.0)
+        height, width = drawn_share(ax, corners)
+        if height > 0 and width > 0:
+            ax.set_box_aspect(spans, zoom=min(TALL_FILL / height, WIDE_FILL / width))
+
+
+def _box_corners(ax) -> NDArray[np.float64]:
+    """(8, 3) m: the corners of ``ax``'s 3D limits."""
+    x, y, z = ax.get_xlim3d(), ax.get_ylim3d(), ax.get_zlim3d()
+    return np.array([[a, b, c] for a in x for b in y for c in z])
+
+
+def drawn_share(ax, points: NDArray[np.float64]) -> tuple[float, float]:
+    """The shares of ``ax``'s panel (the figure's cell it was given, before a 3D axes makes
+    its own box square) in height and width that ``points`` ((P, 3), m) fill as drawn."""
+    x, y, _ = proj3d.proj_transform(*points.T, ax.get_proj())
+    shown = ax.transData.transform(np.column_stack([x, y]))
+    box = ax.get_position(original=True).transformed(ax.figure.transFigure)
+    height = (shown[:, 1].max() - shown[:, 1].min()) / box.height
+    width = (shown[:, 0].max() - shown[:, 0].min()) / box.width
+    return float(height), float(width)
+
+
 def _cell_ratio(ax) -> float:
     """Height over width of ``ax``'s panel (the figure's cell it was given)."""
     cell = ax.get_position(original=True)
@@ -296,6 +336,7 @@ def body_figure(
     _colour_bar(fig, axes, norm, label, ds[variable].values * scale)
     status = "" if int(ds.attrs.get("converged", 1)) else " (NOT CONVERGED)"
     fig.suptitle(f"{ds.attrs.get('fabric_name', '')}: {label.split(' [')[0]} on the body{status}")
+    fill_panels(fig)
     return fig
 
 
