@@ -75,8 +75,8 @@ wearers: bodies
 		$(BIN)/cloth body wearers data/bodies/leg_chart.csv --size $$size -o data/bodies/wearers/leg_$$size || exit 1; \
 	done
 
-# large grids, full-size scans, the pipeline killed and resumed, avatars fitted (tens of
-# minutes; .ci/run)
+# large grids, full-size scans, the tiny pipeline end to end, the pipeline killed and resumed,
+# avatars fitted (tens of minutes; .ci/run)
 test-slow: $(STAMP) bodies
 	$(BIN)/python -m pytest -q -n 2 --dist loadscope -m slow
 

@@ -15,6 +15,11 @@ import yaml
 from tests.conftest import MMHG_BY_DEFINITION as MMHG
 from tests.pipeline import ROOT, SNAKEMAKE, environment, from_checkout, snakemake, workspace
 
+#: The tiny pipeline (config/ci.yaml end to end, about 3-5 minutes on 2 cores) and the tests
+#: that read it run in the slow suite (make test-slow, which CI runs), keeping make test near
+#: five minutes: the fixture took 159-281 s of one worker's time there.
+TINY = pytest.mark.slow
+
 
 def test_default_config_dry_run(tmp_path):
     result = snakemake(workspace(tmp_path), "-n")
@@ -93,6 +98,7 @@ def test_bad_config_stops_before_any_job(tmp_path, mutate, expected):
     assert not [p for p in where.iterdir() if p.name.startswith("results")]
 
 
+@TINY
 def test_tiny_pipeline_end_to_end(tiny_run):
     where, result, _ = tiny_run
     assert result.returncode == 0, result.stderr[-3000:]
@@ -185,6 +191,7 @@ def test_tiny_pipeline_end_to_end(tiny_run):
     assert "Nothing to be done" in again.stdout + again.stderr
 
 
+@TINY
 def test_the_tiny_pipeline_wears_the_garment_on_an_avatar_at_its_chart_s_lines(tiny_run):
     """The config's avatar case (torso S's avatar, shipped): its case.yaml names the shipped
     mesh with the region every garment of the config spans, its one surface file is fitted
@@ -218,6 +225,7 @@ def _positions(path: Path) -> np.ndarray:
         return np.stack([ds[c].values for c in ("x", "y", "z")], axis=-1)
 
 
+@TINY
 def test_every_written_case_runs_as_written_after_its_folder_moves(tiny_run, tmp_path, monkeypatch):
     """The cases the pipeline writes (each case's case.yaml, a design's start.yaml and its
     designed case.yaml) store their paths relative to their own folder: the results folder
@@ -388,6 +396,7 @@ def _close(written: str, value: float, rel: float = 1e-5) -> bool:
     return number == pytest.approx(value, rel=rel, abs=1e-12)
 
 
+@TINY
 def test_the_sweep_s_files_are_each_case_s_result_nc(tiny_run):
     """sweep.nc and sweep.csv, value by value, against each case's own result.nc (located by
     the index sweep.nc records), in the unit each header names; the worn column beside the new."""
@@ -435,6 +444,7 @@ def test_the_sweep_s_files_are_each_case_s_result_nc(tiny_run):
     assert set(rows[0]) == (checked | set(SWEEP_COLUMNS)) - {"worn"}
 
 
+@TINY
 def test_the_design_s_files_are_the_sweep_interpolated_by_hand(tiny_run):
     """design.csv's answer, slope and interval from sweep.csv's two reductions by hand; its
     confirmation's pressure and error from the confirmation case's own result.nc."""
@@ -484,6 +494,7 @@ def test_the_design_s_files_are_the_sweep_interpolated_by_hand(tiny_run):
         assert int(final["converged"]) == 1
 
 
+@TINY
 def test_every_file_the_tiny_pipeline_writes_has_its_columns_in_the_inventory(tiny_run):
     """Every column of every CSV and every variable of result.nc, sweep.nc the tiny pipeline
     writes has a row in docs/testing.md's inventory, in the units the file states."""
@@ -503,6 +514,7 @@ def test_every_file_the_tiny_pipeline_writes_has_its_columns_in_the_inventory(ti
     assert inventory.unlisted(files) == []
 
 
+@TINY
 def test_the_graded_design_s_files_are_its_loop_and_its_confirmation(tiny_run):
     """The tiny pipeline's graded design (config/ci.yaml: waist 10, underbust 12 mmHg):
     design_iterations.csv ends at the designed knots and values; design_confirmed.csv reads
