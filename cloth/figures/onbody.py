@@ -202,7 +202,7 @@ def fill_panels(fig: plt.Figure) -> None:
     band of a torso, its labels' room beside it) was drawn in the middle half of its panel (an
     avatar's band read 0.48 of the height). The projection is orthographic, so the drawn size
     scales with the zoom."""
-    fig.canvas.draw()  # the constrained layout places the panels
+    fig.draw_without_rendering()  # the constrained layout places the panels
     for ax in fig.axes:
         if ax.name != "3d" or _tallness(ax) > 1.0:  # a tall panel's box is zoomed to its height
             continue
