@@ -375,4 +375,5 @@ def plot_sweep_on_body(
     every = np.concatenate([np.ravel(ds[variable].values) * scale for _, _, ds in cases])
     _colour_bar(fig, axes, norm, label, every)
     fig.suptitle(f"pressure on the body, {view} view")
+    fill_panels(fig)
     return save_figure(fig, path)
