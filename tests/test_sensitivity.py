@@ -91,7 +91,7 @@ def test_adjoint_equals_central_differences(body, edges):
     before = factorisations()
     sens = sensitivities(state, shape, result.final, heights, result.factor)
     assert factorisations() - before == (0 if result.factor is not None else 1)
-    np.testing.assert_allclose(sens.means, line_means(state, result, heights), rtol=1e-12)
+    np.testing.assert_allclose(sens.means, line_means(state, result, heights, shape), rtol=1e-12)
     fd = finite_difference_jacobian(state, shape, settings, heights, 1e-5)
     assert sens.jacobian.shape == fd.shape == (len(heights), len(state.case.garment.reduction))
     scale = np.abs(fd).max(axis=1, keepdims=True)

@@ -8,6 +8,7 @@ was). Each block is its own type, read by attribute, never by string key:
 case key       type                                        read by
 =============  ==========================================  ===================================
 material       str (a lab table, a material.nc or a name)  `cloth.files.material.load_fabric`
+fabric_scale   float, 1: the fabric's stresses scaled      `cloth.files.material.case_fabric`
 body           `BodySpec` (kind, its block, `Tissue`)      `cloth.files.body.body_from_config`
 garment        `GarmentSpec`                               `cloth.garment.predeform`
 contact        `Contact` (friction, slip length)           `Case.skin`
@@ -168,6 +169,7 @@ class Case:
     _data: Mapping[str, Any] = field(repr=False)
     judge: Judge = field(default_factory=Judge)
     reading: Reading = field(default_factory=Reading)
+    fabric_scale: float = 1.0
 
     @property
     def skin(self) -> Skin:
@@ -223,6 +225,7 @@ class Case:
             _data=MappingProxyType(data),
             judge=Judge.from_block(data.get("judge")),
             reading=Reading.from_blocks(data.get("girth_reading"), data.get("sensors")),
+            fabric_scale=float(data.get("fabric_scale", 1.0)),
         )
 
 

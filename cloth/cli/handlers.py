@@ -159,6 +159,41 @@ def sizes(args: argparse.Namespace) -> int:
     return 0
 
 
+def compare(args: argparse.Namespace) -> int:
+    from cloth.errors import InputError
+
+    inputs = args.inputs
+    if len(inputs) == 1 and inputs[0].suffix in (".yaml", ".yml"):
+        from cloth.stages.study import run_study
+
+        run_study(inputs[0], args.output, _overrides(args))
+        return 0
+    if len(inputs) != 2:
+        raise InputError(
+            f"got {len(inputs)} files; give RESULT.nc MEASURED.csv, or one STUDY.yaml",
+            field="compare",
+        )
+    from cloth.stages.compare import compare as compare_files
+
+    compare_files(inputs[0], inputs[1], args.output)
+    return 0
+
+
+def calibrate(args: argparse.Namespace) -> int:
+    from cloth.errors import InputError
+    from cloth.results.pressure import MMHG
+    from cloth.stages.calibrate import NOISE, fit, parameter_names, write_calibration
+
+    if args.noise is not None and args.noise <= 0:
+        raise InputError(f"the noise must be above 0 mmHg, got {args.noise:g}", field="--noise")
+    noise = NOISE if args.noise is None else args.noise * MMHG
+    names = parameter_names(args.fit)
+    found = fit(args.case, args.measured, names, args.base_dir, _overrides(args), noise)
+    base_dir = args.case.parent if args.base_dir is None else args.base_dir
+    write_calibration(found, args.measured, args.output, base_dir)
+    return 0
+
+
 def wearers_report(args: argparse.Namespace) -> int:
     import json
 

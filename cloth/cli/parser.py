@@ -8,6 +8,7 @@ from typing import Any, NoReturn
 
 from cloth import __version__
 from cloth.cli.argtypes import amount
+from cloth.cli.measurecommands import add_measure_commands
 from cloth.cli.sizecommands import add_sizes_command
 from cloth.cli.wearercommands import add_wearers_commands
 from cloth.errors import EXIT_INPUT
@@ -332,6 +333,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     add_wearers_commands(commands, body_commands, _path, solver_options)
     add_sizes_command(commands, _path, solver_options)
+    add_measure_commands(commands, _path, solver_options)
 
     agg = commands.add_parser(
         "aggregate",

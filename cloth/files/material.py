@@ -153,6 +153,7 @@ def fit_errors(ds: xr.Dataset) -> dict[str, dict[str, float]]:
 
 __all__ = [
     "KIND",
+    "case_fabric",
     "curve_variables",
     "fabric_from_dataset",
     "fabric_variables",
@@ -160,6 +161,12 @@ __all__ = [
     "load_fabric",
     "material_dataset",
 ]
+
+
+def case_fabric(case, base_dir: str | Path = ".") -> Fabric:
+    """The fabric a case (`cloth.case.Case`) wears: its ``material`` (`load_fabric`) with the
+    stresses scaled by its ``fabric_scale``."""
+    return load_fabric(case.material, base_dir).scaled(case.fabric_scale)
 
 
 def load_fabric(spec: str, base_dir: str | Path = ".") -> Fabric:

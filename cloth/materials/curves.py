@@ -18,7 +18,7 @@ Units: strain is dimensionless (1), stress and moduli in Pa, energy density in J
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Literal
 
 import numpy as np
@@ -269,3 +269,27 @@ class Fabric:
         """Whether every curve of the fabric carries no compression
         (`StressStrainCurve.tension_only`)."""
         return all(self.curve(d).tension_only for d in self.directions)
+
+    def scaled(self, factor: float) -> Fabric:
+        """The fabric with every curve's stresses (and compression modulus) times
+        ``factor`` (1, > 0): a stiffer or softer lot of it (a case's ``fabric_scale``)."""
+        if factor == 1.0:
+            return self
+
+        def scale(curve: StressStrainCurve | None) -> StressStrainCurve | None:
+            if curve is None:
+                return None
+            modulus = curve.compression_modulus
+            return StressStrainCurve(
+                curve.knot_strain,
+                curve.knot_stress * factor,
+                None if modulus is None else modulus * factor,
+            )
+
+        return replace(
+            self,
+            weft=scale(self.weft),
+            warp=scale(self.warp),
+            bias=scale(self.bias),
+            provenance={**self.provenance, "fabric_scale": f"{factor:.6g}"},
+        )

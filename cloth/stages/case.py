@@ -19,7 +19,7 @@ from cloth.case import Case
 from cloth.errors import EXIT_DIVERGED, InputError, StageFailed
 from cloth.files.body import body_from_config, body_from_record
 from cloth.files.levels import level_variables, mark_values
-from cloth.files.material import load_fabric
+from cloth.files.material import case_fabric
 from cloth.files.relaxed import relaxed_dataset
 from cloth.files.state import read_state, state_dataset
 from cloth.garment.cut import placement
@@ -60,7 +60,7 @@ def initial_state(case: Case | dict, base_dir: str | Path = ".", source: str = "
     `cloth.garment.predeform.predeform`."""
     case = validate_case(case, source)
     try:
-        fabric = load_fabric(case.material, base_dir)
+        fabric = case_fabric(case, base_dir)
         garment = case.garment
         span = (garment.bottom, garment.top)
         body, record = body_from_config(case.body.block, base_dir, span, garment.loop_point)

@@ -99,10 +99,12 @@ class Design:
         return dict(zip(self.knots, self.values.tolist(), strict=True))
 
 
-def line_means(state: State, result: Result, heights: dict[str, float]) -> NDArray[np.float64]:
+def line_means(
+    state: State, result: Result, heights: dict[str, float], body: Body
+) -> NDArray[np.float64]:
     """(L,) float, Pa: the girth lines' mean pressures at ``result``'s equilibrium, bottom to
     top (the lines beyond the garment left out), as result.nc reports them."""
-    return np.array([mark.mean for mark in girth_marks(state, result.final, heights)])
+    return np.array([mark.mean for mark in girth_marks(state, result.final, heights, body)])
 
 
 def finite_difference_jacobian(
@@ -119,7 +121,7 @@ def finite_difference_jacobian(
             shifted = values.copy()
             shifted[k] += sign * step
             moved = with_profile(state, shifted)
-            means.append(line_means(moved, relax(moved, body, settings), heights))
+            means.append(line_means(moved, relax(moved, body, settings), heights, body))
         columns.append((means[0] - means[1]) / (2.0 * step))
     return np.stack(columns, axis=1)
 
@@ -287,7 +289,7 @@ def _uniform(
     r = float(np.clip(r0 + shift, BOUNDS[0], upper.min()))
     moved = with_profile(state, np.full(len(sens.knots), r))
     result = relax(moved, body, settings)
-    return r, line_means(moved.with_positions(result.final.x), result, lines)
+    return r, line_means(moved.with_positions(result.final.x), result, lines, body)
 
 
 def _check_lines(

@@ -33,7 +33,7 @@ from cloth.results.fields import node_fields
 from cloth.results.landmarks import Landmark, landmark_heights, landmarks
 from cloth.results.richardson import estimate_levels
 from cloth.solvers import Diverged, relax
-from cloth.solvers.problem import Evaluation
+from cloth.solvers.problem import Evaluation, Problem
 from cloth.solvers.relax import Result
 from cloth.stages.cuts import state_cut
 
@@ -80,8 +80,23 @@ def coarser_grids(
     return out
 
 
-def girth_marks(state: State, final: Evaluation, heights: dict[str, float]) -> tuple[Landmark, ...]:
-    """The girth-line summaries of ``state``'s grid at the equilibrium ``final``."""
+def reported(state: State, final: Evaluation, body: Body) -> Evaluation:
+    """The evaluation result.nc reports at the equilibrium ``final`` (`cloth.stages.results`):
+    where the case has friction, the problem rebuilt at the equilibrium, so each held node's
+    reaction is the body's normal push alone. The relaxation's own final evaluation counts the
+    friction force that holds a node in the reaction too, and its magnitude sqrt(lambda^2 +
+    f_t^2) is up to sqrt(1 + mu^2) of the pressure (4.4 % at mu 0.3)."""
+    if not state.skin.friction:
+        return final
+    return Problem.of(state.with_positions(final.x), body).evaluate(final.x)
+
+
+def girth_marks(
+    state: State, final: Evaluation, heights: dict[str, float], body: Body
+) -> tuple[Landmark, ...]:
+    """The girth-line summaries of ``state``'s grid at the equilibrium ``final`` on ``body``,
+    as result.nc reports them (`reported`)."""
+    final = reported(state, final, body)
     fields = node_fields(
         state.grid,
         final.x,
@@ -122,7 +137,7 @@ def relax_level(
         result.final.residual,
         seconds,
     )
-    return Level(grid, girth_marks(coarse, result.final, heights), result.converged, seconds)
+    return Level(grid, girth_marks(coarse, result.final, heights, body), result.converged, seconds)
 
 
 def relax_levels(
@@ -208,10 +223,12 @@ def refine(start: State, body: Body, settings: Settings, accuracy: float, cap: i
             break
         runs = [*runs[-2:], (state, result)]
         heights = landmark_heights(state.with_positions(result.final.x))
-        levels = _levels(runs, heights)
+        levels = _levels(runs, heights, body)
         if len(levels) == 2:
             grid = (state.grid.n, state.grid.m)
-            worst, which = worst_error(grid, girth_marks(state, result.final, heights), levels)
+            worst, which = worst_error(
+                grid, girth_marks(state, result.final, heights, body), levels
+            )
             log.info(
                 "grid auto: %d x %d, largest stated error of a girth-line mean %.3g %% "
                 "(%s; asked %.3g %%)",
@@ -242,12 +259,12 @@ def refine(start: State, body: Body, settings: Settings, accuracy: float, cap: i
         state = predeform(start.case, start.fabric, body, start.body, grid=(n, m), pattern=pattern)
     state, result = runs[-1]
     heights = landmark_heights(state.with_positions(result.final.x))
-    return Refined(state, result, _levels(runs, heights), met, worst)
+    return Refined(state, result, _levels(runs, heights, body), met, worst)
 
 
-def _levels(runs: list[tuple[State, Result]], heights: dict[str, float]) -> list[Level]:
+def _levels(runs: list[tuple[State, Result]], heights: dict[str, float], body: Body) -> list[Level]:
     """The levels below the last of ``runs`` (finest first), summarised at its ``heights``."""
     return [
-        Level((s.grid.n, s.grid.m), girth_marks(s, r.final, heights), r.converged, r.seconds)
+        Level((s.grid.n, s.grid.m), girth_marks(s, r.final, heights, body), r.converged, r.seconds)
         for s, r in reversed(runs[:-1])
     ]

@@ -43,7 +43,7 @@ from cloth.bodies.avatar import ChartTargets, chart_rows, chart_targets
 from cloth.bodies.leg import ABOVE, BELOW
 from cloth.bodies.person import person_body, template_girths
 from cloth.case.locations import relocated
-from cloth.files.material import load_fabric
+from cloth.files.material import case_fabric
 from cloth.files.population import read_population
 from cloth.io import atomic_output
 from cloth.pipeline.config import load_case
@@ -120,7 +120,7 @@ class Sizing:
         measure_names(request, self.people, self.points)
         rows = chart_rows(self.chart)[1]
         self.template = next(r for r in rows if (r.get("size") or "").strip() == self.size)
-        self.tension = Tension.of(load_fabric(self.case.material, self.base_dir))
+        self.tension = Tension.of(case_fabric(self.case, self.base_dir))
         self.bands = {b.line: b for b in request.bands}
         self.lines = tuple(self.bands)
         self.girths = {line: self.people.measures[line] for line in self.lines}
