@@ -38,6 +38,7 @@ include: "workflow/rules/sweep.smk"
 include: "workflow/rules/design.smk"
 include: "workflow/rules/wearers.smk"
 include: "workflow/rules/sizes.smk"
+include: "workflow/rules/compare.smk"
 
 
 rule all:

@@ -120,6 +120,14 @@ def _chart_of(bodies: list[str]):
         ),
         (_chart_of(["torso_S", "torso_XL"]), "profile_designs.graded.bodies.1"),
         (_chart_of(["torso_S", "torso_S"]), "profile_designs.graded.bodies"),
+        (
+            lambda c: c.update(comparisons={"nobody": "data/measurements/example_cone.csv"}),
+            "comparisons.nobody",
+        ),
+        (
+            lambda c: c.update(comparisons={"powernet__torso_M__r150": "readings/none.csv"}),
+            "comparisons.powernet__torso_M__r150",
+        ),
     ],
 )
 def test_a_bad_config_is_refused_naming_its_key(change, field):
@@ -283,3 +291,10 @@ def test_a_wearers_entry_s_variation_is_one_more_case_per_value_on_the_centre_we
     with pytest.raises(InputError) as error:
         make_plan(config, ROOT)
     assert error.value.field == "wearers.v.variation.tissue_thickness"
+
+
+def test_a_comparison_names_its_case_s_measurements_file():
+    config = yaml.safe_load((ROOT / "config/ci.yaml").read_text())
+    plan = make_plan(config, ROOT)
+    assert set(plan.comparisons) == {"cone"} and "cone" in plan.cases
+    assert Path(plan.comparisons["cone"]).resolve() == (ROOT / "data/measurements/example_cone.csv")

@@ -31,6 +31,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from cloth.errors import InputError
+from cloth.io import atomic_output
 from cloth.results.pressure import MMHG
 
 #: Columns every measurements file has.
@@ -183,3 +184,19 @@ def read_measurements(path: str | Path) -> Measurements:
         tuple(subject),
         np.array(repeat, dtype=np.int64),
     )
+
+
+def write_measurements(measured: Measurements, path: str | Path, header: str) -> Path:
+    """Write ``measured`` as a measurements file (module docstring) at ``path``, atomically,
+    ``header``'s lines as ``#`` comments first; pressures to 0.01 mmHg."""
+    lines = [f"# {line}" for line in header.splitlines()]
+    lines.append("subject,point,height_m,angle_deg,pressure_mmHg,probe_mm,repeat")
+    for k in range(len(measured)):
+        height = "" if measured.point[k] else f"{measured.height[k]:.4f}"
+        lines.append(
+            f"{measured.subject[k]},{measured.point[k]},{height},{measured.angle[k]:g},"
+            f"{measured.pressure[k] / MMHG:.2f},{1e3 * measured.probe[k]:g},{measured.repeat[k]}"
+        )
+    with atomic_output(path) as tmp:
+        tmp.write_text("\n".join(lines) + "\n")
+    return Path(path)

@@ -143,6 +143,9 @@ class Plan:
     wearers: dict[str, WearersRun] = field(default_factory=dict)
     #: Size charts by entry (`cloth.pipeline.sizecharts`).
     size_charts: dict[str, SizeChartRun] = field(default_factory=dict)
+    #: Measured readings by case name (config ``comparisons``): the measurements CSV each
+    #: case is compared with (`cloth.stages.compare`).
+    comparisons: dict[str, str] = field(default_factory=dict)
 
     def case(self, name: str, block: dict | None = None, where: str = "cases") -> Case:
         """Case ``name`` of the config (or ``block``) with its material as the ingested file,
@@ -453,7 +456,25 @@ def make_plan(
             )
     plan.cases.update(worn)
     plan.size_charts = size_chart_runs(plan)
+    plan.comparisons = comparison_files(plan)
     return plan
+
+
+def comparison_files(plan: Plan) -> dict[str, str]:
+    """The config's ``comparisons``: case name -> its measurements file (where it is looked
+    for, `data_path`); `InputError` naming the key where the case is not one of the plan's or
+    the file is missing."""
+    out = {}
+    for name, path in (plan.config.get("comparisons") or {}).items():
+        field_name = f"comparisons.{name}"
+        if name not in plan.cases:
+            raise InputError(
+                f"no case {name!r} to compare; name one of cases or the sweep", "config", field_name
+            )
+        found = data_path(path, plan.base)
+        input_file(found, ".", "config", field_name, "measurements file")
+        out[name] = found
+    return out
 
 
 def body_files(case: Case) -> list[str]:

@@ -8,7 +8,8 @@ standard deviation of place i's k_i readings).
 Then, over the places, with d = model - measured (`Agreement.of`): the bias (mean of d), the
 standard deviation of d (n - 1 in the denominator), the limits of agreement bias +- 1.96 sd
 (Bland and Altman 1986, where 95 % of differences are expected), the root mean square of d and
-Pearson's r between model and measured (NaN with fewer than 3 places or no spread). Units are
+Pearson's r between model and measured (NaN with fewer than 3 places or no spread,
+`SPREAD`). Units are
 the readings' (Pa in the library; the files write mmHg).
 """
 
@@ -23,6 +24,9 @@ from numpy.typing import NDArray
 
 #: The limits of agreement are bias +- this many standard deviations (95 %).
 LOA_Z = 1.96
+#: Values whose standard deviation is below this share of their mean have no spread (a
+#: uniform pressure read at several places differs by rounding): r is then not defined.
+SPREAD = 1e-9
 
 
 @dataclass(frozen=True)
@@ -86,7 +90,9 @@ class Agreement:
         bias = float(d.mean())
         sd = float(d.std(ddof=1)) if n > 1 else float("nan")
         rmse = float(np.sqrt(np.mean(d * d)))
-        spread = n >= 3 and a.std() > 0 and b.std() > 0
+        spread = n >= 3 and all(
+            v.std() > SPREAD * max(abs(float(v.mean())), 1e-300) for v in (a, b)
+        )
         r = float(np.corrcoef(a, b)[0, 1]) if spread else float("nan")
         return cls(n, bias, sd, bias - LOA_Z * sd, bias + LOA_Z * sd, rmse, r)
 

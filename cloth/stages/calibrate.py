@@ -13,8 +13,9 @@ determined`, with the readings' noise: the repeats' pooled standard deviation wh
 has repeats, else ``noise``); a bounded least-squares fit of the determined ones
 (`scipy.optimize.least_squares`, trust-region reflective, the same differences for its
 Jacobian), the others held at their start; their 95 % intervals at the end
-(`cloth.results.calibration.intervals`). Writes calibration.csv (`CALIBRATION_COLUMNS`),
-fit.csv (`FIT_COLUMNS`, the readings before and after) and the calibrated case.yaml.
+(`cloth.results.calibration.intervals`, from central differences). Writes calibration.csv
+(`CALIBRATION_COLUMNS`), fit.csv (`FIT_COLUMNS`, the readings before and after) and the
+calibrated case.yaml.
 """
 
 from __future__ import annotations
@@ -189,16 +190,27 @@ def rms(values: NDArray[np.float64]) -> float:
 
 
 def jacobian(
-    model: Model, fixed: dict[str, float], params: list[Parameter], u: NDArray[np.float64]
+    model: Model,
+    fixed: dict[str, float],
+    params: list[Parameter],
+    u: NDArray[np.float64],
+    central: bool = False,
 ) -> NDArray[np.float64]:
-    """(R, q) Pa per u: the readings' forward differences in ``params`` at ``u`` (the others
-    ``fixed``)."""
+    """(R, q) Pa per u: the readings' differences in ``params`` at ``u`` (the others
+    ``fixed``): forward, or ``central`` where the step back stays within the bound (the
+    intervals' Jacobian, second-order accurate)."""
     base = model.readings(fixed | values_of(params, u))
     columns = []
     for k, parameter in enumerate(params):
-        moved = u.copy()
-        moved[k] += parameter.step
-        columns.append((model.readings(fixed | values_of(params, moved)) - base) / parameter.step)
+        ahead, back = u.copy(), u.copy()
+        ahead[k] += parameter.step
+        back[k] -= parameter.step
+        forward = model.readings(fixed | values_of(params, ahead))
+        if central and back[k] >= parameter.bound:
+            behind = model.readings(fixed | values_of(params, back))
+            columns.append((forward - behind) / (2 * parameter.step))
+        else:
+            columns.append((forward - base) / parameter.step)
     return np.stack(columns, axis=1) if columns else np.zeros((len(base), 0))
 
 
@@ -225,10 +237,20 @@ class Calibration:
     heights: NDArray[np.float64]
 
 
+def _place_keys(measured: Measurements) -> tuple:
+    """Each reading's place: its point, height, angle and probe, as sequences."""
+    return (
+        measured.point,
+        measured.height.tolist(),
+        measured.angle.tolist(),
+        measured.probe.tolist(),
+    )
+
+
 def readings_noise(measured: Measurements, noise: float) -> float:
     """The readings' noise (Pa): the repeats' pooled standard deviation where there are
     repeats, else ``noise``."""
-    keys = list(zip(measured.point, measured.height, measured.angle, measured.probe, strict=True))
+    keys = list(zip(*_place_keys(measured), strict=True))
     found = pooled_sd(average_repeats([str(k) for k in keys], measured.pressure))
     return found if math.isfinite(found) and found > 0 else noise
 
@@ -264,6 +286,15 @@ def fit(
     sigma0 = readings_noise(measured, noise)
     spans = np.array([p.span for p in params])
     known = determined(jacobian(model, {}, params, u0), spans, sigma0)
+    places = len({(p, h, a, d) for p, h, a, d in zip(*_place_keys(measured), strict=True)})
+    if places < len(params):
+        log.warning(
+            "calibrate: %d reading place%s cannot determine %d parameters, %d at most",
+            places,
+            "" if places == 1 else "s",
+            len(params),
+            places,
+        )
     for p, ok in zip(params, known, strict=True):
         if not ok:
             log.warning(
@@ -279,11 +310,10 @@ def fit(
         u = _least_squares(model, fixed, free, u)
     values = fixed | values_of(free, u)
     after = model.readings(values)
-    found, sigma = intervals(
-        jacobian(model, fixed, free, u), after - measured.pressure, u, free, sigma0
-    )
+    slopes = jacobian(model, fixed, free, u, central=True)
+    found, sigma = intervals(slopes, after - measured.pressure, u, free, sigma0)
     spans_free = np.array([p.span for p in free])
-    still = determined(jacobian(model, fixed, free, u), spans_free, sigma) if free else []
+    still = determined(slopes, spans_free, sigma) if free else []
     interval: dict[str, Interval | None] = {n: None for n in names}
     flags = {n: False for n in names}
     for p, item, ok in zip(free, found, still, strict=True):

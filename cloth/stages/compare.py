@@ -31,7 +31,7 @@ from cloth.files.compared import (
 from cloth.files.measured import Measurements, read_measurements
 from cloth.io import read_netcdf, write_netcdf
 from cloth.pipeline.sweep import write_rows
-from cloth.results.agreement import Compared, average_repeats
+from cloth.results.agreement import Agreement, Compared, average_repeats
 from cloth.results.pressure import MMHG
 from cloth.results.sensing import locate, model_readings, transferred_errors
 
@@ -127,8 +127,6 @@ def write_compared(table: Compared, output: Path, sources: dict[str, str]) -> di
 
 def log_agreement(table: Compared) -> None:
     """One log line of the pooled agreement, mmHg."""
-    from cloth.results.agreement import Agreement
-
     stats = Agreement.of(table.model, table.measured)
     log.info(
         "model - measured over %d places: bias %.2f mmHg, limits of agreement %.2f to %.2f "
@@ -139,4 +137,27 @@ def log_agreement(table: Compared) -> None:
         stats.loa_high / MMHG,
         stats.rmse / MMHG,
         stats.r,
+    )
+
+
+def synthetic(
+    result: xr.Dataset, places: Measurements, noise: float, seed: int, repeats: int
+) -> Measurements:
+    """What a sensor with Gaussian noise of standard deviation ``noise`` (Pa; seeded by
+    ``seed``) would read ``repeats`` times at each place of ``places`` (their pressures are
+    not used) on ``result``: the model's reading plus noise, clipped at 0. The shipped example
+    (data/measurements) is made so."""
+    table = compare_result(result, places)
+    rng = np.random.default_rng(seed)
+    count = len(table.model) * repeats
+    order = np.repeat(np.arange(len(table.model)), repeats)
+    return Measurements(
+        places.source,
+        tuple(table.point[k] for k in order),
+        np.where([bool(table.point[k]) for k in order], np.nan, table.height[order]),
+        table.angle[order],
+        np.maximum(table.model[order] + rng.normal(0.0, noise, count), 0.0),
+        table.probe[order],
+        tuple(table.subject[k] for k in order),
+        np.tile(np.arange(1, repeats + 1), len(table.model)),
     )

@@ -49,6 +49,7 @@ SWEEP_BLOCKS, SWEEP_INDEX, CASES = PLAN.sweep, PLAN.index, PLAN.cases
 DESIGNS = PLAN.designs
 WEARERS = PLAN.wearers
 SIZE_CHARTS = PLAN.size_charts
+COMPARISONS = PLAN.comparisons
 #: The wearers runs' cases: they run to result.nc only (no figures or views of their own).
 WEARER_CASES = {name for run in WEARERS.values() for name in run.cases.values()}
 
@@ -56,6 +57,11 @@ WEARER_CASES = {name for run in WEARERS.values() for name in run.cases.values()}
 def wearers_results(wildcards):
     """Every result.nc of a wearers entry (the size's body first)."""
     return [case_file("result.nc", n) for n in WEARERS[wildcards.entry].cases.values()]
+
+
+def comparison_file(wildcards):
+    """The measurements file a case is compared with (config comparisons)."""
+    return COMPARISONS[wildcards.case]
 
 
 def size_chart_material(wildcards):
@@ -218,11 +224,17 @@ def all_outputs():
         for entry in sorted(SIZE_CHARTS)
         for name in ("sizes.csv", "chart.csv", "fabric_requirement.csv", "sizes.png")
     ]
+    comparisons = [
+        case_file(f"compare/{name}", case)
+        for case in sorted(COMPARISONS)
+        for name in ("compare.csv", "agreement.csv", "compare.nc", "compare.png")
+    ]
     return (
         sweep
         + designs
         + wearers
         + size_charts
+        + comparisons
         + [material_file(suffix, m) for m in materials for suffix in ("nc", "png")]
         + [
             case_file(name, case)
