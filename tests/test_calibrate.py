@@ -210,12 +210,15 @@ def test_a_fabric_scale_scales_the_tension_and_laplace_s_pressure(tmp_path):
         (["--fit", "friction", "--noise", "0"], "--noise"),
         (["--fit", "tissue_modulus", "--no-tissue"], "body.tissue"),
         (["--fit", "friction", "--two-subjects"], "subject"),
+        (["--fit", "friction", "--grid-auto"], "garment.grid"),
     ],
 )
 def test_bad_calibrate_input_is_one_line_and_exit_2_with_nothing_written(
     tmp_path, capsys, argv, where
 ):
     changes = {"body": {"cone": BODY["cone"]}} if "--no-tissue" in argv else {}
+    if "--grid-auto" in argv:
+        changes["garment"] = {**CASE["garment"], "grid": "auto"}
     start = start_case(tmp_path, **changes)
     measured = tmp_path / "m.csv"
     if "--two-subjects" in argv:
@@ -224,7 +227,7 @@ def test_bad_calibrate_input_is_one_line_and_exit_2_with_nothing_written(
         )
     else:
         write_readings(measured, [20.0, 21.0])
-    argv = [a for a in argv if a not in ("--no-tissue", "--two-subjects")]
+    argv = [a for a in argv if a not in ("--no-tissue", "--two-subjects", "--grid-auto")]
     out = tmp_path / "out"
     assert main(["calibrate", str(start), str(measured), *argv, "-o", str(out)]) == 2
     err = capsys.readouterr().err.strip().splitlines()

@@ -2,10 +2,11 @@
 
 The parameters (`cloth.results.calibration.PARAMETERS`): ``friction`` (``contact.friction``),
 ``tissue_modulus`` (``body.tissue.modulus``; the case must have a tissue layer, whose thickness
-stays) and ``fabric_scale`` (the case's ``fabric_scale``). Each evaluation is the case with the
-parameters set, pre-deformed and relaxed from scratch (friction depends on the path, so never
-from another evaluation's equilibrium) with the case's solver, no coarser levels, and read by
-the model's probe at every reading's place (`cloth.results.sensing`).
+and ``bands`` stay as they are) and ``fabric_scale`` (the case's ``fabric_scale``). Each
+evaluation is the case with the parameters set, pre-deformed and relaxed from scratch
+(friction depends on the path, so never from another evaluation's equilibrium) with the case's
+solver, no coarser levels, and read by the model's probe at every reading's place
+(`cloth.results.sensing`).
 
 The steps: the readings' derivatives in the parameters at the start by forward differences
 (`Parameter.step`); which of them the readings determine (`cloth.results.calibration.
@@ -274,6 +275,13 @@ def fit(
             "subject's readings (a study compares several, docs/validation.md)",
             measured.source,
             "subject",
+        )
+    if data["garment"].get("grid") == "auto":
+        raise InputError(
+            "calibrate fits on one grid: give garment.grid as [around, rows] (the grid auto "
+            "would refine on every evaluation)",
+            source,
+            "garment.grid",
         )
     start = start_values(data, names, source)
     if "friction" in names:  # the solver must take friction: checked before any equilibrium
