@@ -9,6 +9,7 @@ renamed, the worst moment for a file that is not written atomically.
 
 from __future__ import annotations
 
+import csv
 import signal
 import subprocess
 import sys
@@ -123,3 +124,80 @@ def test_a_run_killed_in_any_stage_leaves_whole_files_and_resumes(tmp_path, kind
     assert {"initial.nc", "relaxed.nc", "result.nc", "summary.csv", "stress_weft.png"} <= names
     for path in _published(out):
         _complete(path)
+
+
+#: Each kind of file ``cloth pattern --cut tube`` writes; the CSV in make test, the others in
+#: make test-slow.
+PATTERN_FILES = [
+    pytest.param(name, id=name, marks=() if name == "pattern.csv" else pytest.mark.slow)
+    for name in (
+        "pattern.csv",
+        "pattern.svg",
+        "pattern.dxf",
+        "pattern_astm.dxf",
+        "pattern.pdf",
+        "pattern_knitting.csv",
+        "pattern_knitting.png",
+    )
+]
+
+
+def _whole_pattern_file(path: Path) -> None:
+    """``path``, a file of ``cloth pattern``, reads in full as what it claims to be."""
+    if path.suffix == ".csv":  # comment lines first, quoted cells
+        rows = list(csv.reader(line for line in path.read_text().splitlines() if line[:1] != "#"))
+        assert len(rows) >= 2 and all(len(row) == len(rows[0]) for row in rows), path
+    elif path.suffix in (".nc", ".png", ".html"):
+        _complete(path)
+    elif path.suffix == ".svg":
+        assert path.read_text().rstrip().endswith("</svg>"), path
+    elif path.suffix == ".pdf":
+        data = path.read_bytes()
+        assert data.startswith(b"%PDF") and data.rstrip().endswith(b"%%EOF"), path
+    elif path.suffix == ".dxf":
+        assert path.read_text().rstrip().endswith("EOF"), path
+
+
+@pytest.fixture(scope="module")
+def tube_result(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("tube")
+    case = folder / "case.yaml"
+    case.write_text(yaml.safe_dump(CASE))
+    args = ["--log-level", "WARNING", "run", str(case), "-o", str(folder / "run")]
+    done = subprocess.run(
+        [sys.executable, "-m", "cloth", *args, "--stop-after", "aggregate"],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert done.returncode == 0, done.stderr[-2000:]
+    return folder / "run" / "result.nc"
+
+
+@pytest.mark.parametrize("name", PATTERN_FILES)
+def test_a_pattern_killed_as_it_publishes_any_file_leaves_whole_files_and_reruns(
+    tube_result, tmp_path, name
+):
+    pytest.importorskip("ezdxf")
+    out = tmp_path / "pattern"
+    args = ["--log-level", "WARNING", "pattern", str(tube_result), "--cut", "tube"]
+    args += ["-o", str(out / "pattern.csv")]
+    killed = subprocess.run(
+        [sys.executable, "-c", CHILD, "file", name, *args],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert killed.returncode == -signal.SIGKILL, killed.stderr[-2000:]
+    left = _published(out) if out.exists() else []
+    assert name not in {p.name for p in left}
+    for path in left:
+        _whole_pattern_file(path)
+    again = subprocess.run(
+        [sys.executable, "-m", "cloth", *args], capture_output=True, text=True, timeout=300
+    )
+    assert again.returncode == 0, again.stderr[-2000:]
+    written = {p.name for p in _published(out)}
+    assert {p.values[0] for p in PATTERN_FILES} <= written
+    for path in _published(out):
+        _whole_pattern_file(path)
