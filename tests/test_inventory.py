@@ -451,3 +451,35 @@ def test_the_provenance_names_the_code_s_revision_from_any_working_folder(tmp_pa
         subprocess.run([git, *command], cwd=other, check=True)
     monkeypatch.chdir(other)
     assert git_revision() == here
+
+
+#: The typed blocks of a case (`cloth.case`) and the case key each is read from.
+TYPED_BLOCKS = {"solver": "solver", "garment": "garment", "contact": "contact"}
+
+
+def test_every_default_is_the_one_the_code_applies_and_its_types_own():
+    """A case built with each defaulted key left out carries the schema's default in the typed
+    object the code reads (`Case.solver`, `Case.garment`, `Case.contact`, `Case.fabric_scale`),
+    and the type's own default (a library user's `Settings()`) is the same."""
+    import dataclasses
+
+    from cloth.pipeline.config import validate_case
+
+    garment = {"bottom": 0.1, "top": 0.4, "reduction": 0.15, "grid": [16, 8]}
+    base = {"material": "powernet", "body": {"cylinder": {"radius": 0.1}}, "garment": garment}
+    case = validate_case(base)
+    checked = 0
+    for key, value in _schema_keys(SCHEMAS["case.yaml"], "default").items():
+        block, _, name = key.partition(".")
+        if key == "fabric_scale":
+            assert case.fabric_scale == value
+            checked += 1
+        if block not in TYPED_BLOCKS or "." in name:
+            continue
+        typed = getattr(case, TYPED_BLOCKS[block])
+        assert getattr(typed, name) == value, f"{key}: the code applies {getattr(typed, name)!r}"
+        field = {f.name: f for f in dataclasses.fields(typed)}[name]
+        if field.default is not dataclasses.MISSING:
+            assert field.default == value, f"{key}: {type(typed).__name__}'s own default"
+        checked += 1
+    assert checked >= 18  # every solver, garment and contact default above, and fabric_scale
