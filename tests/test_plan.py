@@ -298,3 +298,13 @@ def test_a_comparison_names_its_case_s_measurements_file():
     plan = make_plan(config, ROOT)
     assert set(plan.comparisons) == {"cone"} and "cone" in plan.cases
     assert Path(plan.comparisons["cone"]).resolve() == (ROOT / "data/measurements/example_cone.csv")
+
+
+def test_a_case_on_an_analytic_body_does_not_widen_the_fitted_surface_s_region():
+    from cloth.pipeline.plan import config_span
+
+    config = yaml.safe_load((ROOT / "config/ci.yaml").read_text())
+    span = config_span(config)
+    assert config["cases"]["cone"]["garment"]["bottom"] < span[0]  # the cone's is lower
+    config["cases"]["cone"]["body"] = {"avatar": {"size": "S"}}
+    assert config_span(config)[0] == config["cases"]["cone"]["garment"]["bottom"]

@@ -36,6 +36,14 @@ def test_a_case_on_tissue_with_friction_reports_indentation_and_friction(tmp_pat
         assert ds["indentation"].attrs["units"] == "m"
         assert ds["friction_state"].attrs["flag_meanings"] == "off_skin stick slip"
         assert ds["friction_force"].attrs["units"] == "N"
+        components = np.stack([ds[f"friction_force_{a}"].values for a in "xyz"], axis=-1)
+        np.testing.assert_allclose(
+            ds["friction_force"].values, np.linalg.norm(components, axis=-1), atol=1e-12
+        )
+        # the layer as the case gives it, node by node
+        np.testing.assert_allclose(ds["tissue_thickness"].values, 0.02)
+        np.testing.assert_allclose(ds["tissue_modulus"].values, 2e4)
+        assert set(np.unique(ds["friction_state"].values)) <= {0, 1, 2}
         assert ds.attrs["solver_lags"] >= 1
     assert (out / "figures" / "indentation.png").is_file()
     assert (out / "figures" / "friction.png").is_file()

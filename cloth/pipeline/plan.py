@@ -79,11 +79,21 @@ def local_body(
     return body
 
 
+#: Body kinds whose smooth surface is fitted over a region (`config_span`).
+SURFACE_KINDS = ("mesh", "avatar")
+
+
 def config_span(config: dict) -> tuple[float, float] | None:
-    """The lowest bottom and highest top (m) of every garment the config names (the sweep's,
-    each case's, each profile design's): the region a mesh body's one smooth surface covers."""
+    """The lowest bottom and highest top (m) of every garment the config names that a fitted
+    surface may carry (the sweep's, each case's on a mesh or avatar, each profile design's):
+    the region a mesh body's one smooth surface covers. A case on a cylinder or a parametric
+    torso does not widen it."""
     garments = [(config.get("sweep") or {}).get("garment") or {}]
-    garments += [case.get("garment") or {} for case in (config.get("cases") or {}).values()]
+    garments += [
+        case.get("garment") or {}
+        for case in (config.get("cases") or {}).values()
+        if any(kind in (case.get("body") or {}) for kind in SURFACE_KINDS)
+    ]
     garments += [
         {**garments[0], **(design.get("garment") or {})}
         for design in (config.get("profile_designs") or {}).values()
