@@ -13,7 +13,7 @@ import yaml
 
 from cloth.cli import main
 from cloth.results.pressure import MMHG
-from tests import inventory
+from tests import crossrefs, inventory
 
 RADIUS = 0.1
 CASE = {
@@ -123,7 +123,7 @@ def test_each_model_error_is_its_nearest_line_s_relative_error(cylinder, compare
         assert float(row["model_error_mmHg"]) == pytest.approx(expected, rel=1e-4)
 
 
-def test_compare_nc_holds_the_csv_s_values_in_si_and_every_column_has_its_row(compared):
+def test_compare_nc_holds_the_csv_s_values_in_si_and_every_column_has_its_row(cylinder, compared):
     rows = read_rows(compared / "compare.csv")
     with xr.open_dataset(compared / "compare.nc") as ds:
         assert ds.attrs["cloth_kind"] == "compare"
@@ -142,6 +142,9 @@ def test_compare_nc_holds_the_csv_s_values_in_si_and_every_column_has_its_row(co
         )
     files = [compared / n for n in ("compare.csv", "agreement.csv", "compare.nc")]
     assert inventory.unlisted(files) == []
+    # each row named by a line is at its height, with its line's error (tests/crossrefs.py)
+    assert crossrefs.problems(compared / "compare.csv") == []
+    assert crossrefs.problems(cylinder.parent / "summary.csv") == []
     assert (compared / "compare.png").stat().st_size > 10_000
 
 

@@ -34,6 +34,7 @@ from cloth.results.targets import Target
 from cloth.stages.case import initial_state
 from cloth.stages.design import MAX_SOLVES, design
 from cloth.stages.graded import confirmed_rows
+from tests import crossrefs
 from tests.conftest import MMHG_BY_DEFINITION
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -452,7 +453,8 @@ def _design_in_process(
     case = {
         "material": "tables/net.csv",
         "body": {"cylinder": {"radius": RADIUS}},
-        "landmarks": {"low": 0.2, "high": 0.3},
+        # a line below the targets': a row read at a target's position, not its name, is off
+        "landmarks": {"hem": 0.15, "low": 0.2, "high": 0.3},
         "garment": {
             "bottom": 0.1,
             "top": 0.4,
@@ -492,6 +494,9 @@ def test_a_graded_design_s_files_are_its_loop_and_its_confirmation_in_process(tm
     assert designed["material"] == "../../tables/net.csv"  # relative to the design's folder
     confirmed = xr.load_dataset(out / "confirmed" / "result.nc")
     assert not (out / "confirmed" / "figures").exists()  # confirmed up to aggregate only
+    # every row's line read by name in its source: its height and values (tests/crossrefs.py)
+    assert crossrefs.problems(out / "design_confirmed.csv") == []
+    assert crossrefs.problems(out / "confirmed" / "summary.csv") == []
     with open(out / "design_confirmed.csv", newline="") as handle:
         rows = {r["landmark"]: r for r in csv.DictReader(handle)}
     for line, target in (("low", 18.0), ("high", 22.0)):

@@ -495,6 +495,18 @@ def test_the_design_s_files_are_the_sweep_interpolated_by_hand(tiny_run):
 
 
 @TINY
+def test_every_csv_row_the_tiny_pipeline_writes_names_its_line_s_own_values(tiny_run):
+    """Each row that names a girth line carries that line's height and values from its source
+    netCDF, read by name, found from the file alone (tests/crossrefs.py), in every CSV."""
+    from tests import crossrefs
+
+    files = sorted((tiny_run[0] / "results-ci").rglob("*.csv"))
+    checked = {p.name for p in files if p.name in crossrefs.RULES}
+    assert {"summary.csv", "design_confirmed.csv", "compare.csv"} <= checked
+    assert [problem for path in files for problem in crossrefs.problems(path)] == []
+
+
+@TINY
 def test_every_file_the_tiny_pipeline_writes_has_its_columns_in_the_inventory(tiny_run):
     """Every column of every CSV and every variable of result.nc, sweep.nc the tiny pipeline
     writes has a row in docs/testing.md's inventory, in the units the file states."""
