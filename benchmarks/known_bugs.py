@@ -461,6 +461,93 @@ BUGS = [
         "spread = abs(near)",
         "tests/test_richardson.py",
     ),
+    # issue 65: the kinds of bug the fast suite missed, each planted after its rule was written
+    Bug(
+        "a notch deeper than the seam allowance",
+        "cloth/files/piece.py",
+        "depth = NOTCH_MM if allowance == 0 else min(NOTCH_MM, allowance)",
+        "depth = NOTCH_MM",
+        "tests/test_pattern_rules.py -m 'not slow'",
+    ),
+    Bug(
+        "the grain line below the piece",
+        "cloth/files/piece.py",
+        "[[0.0, bottom + 0.2 * (top - bottom)],",
+        "[[0.0, bottom - 0.2 * (top - bottom)],",
+        "tests/test_pattern_rules.py -m 'not slow'",
+    ),
+    Bug(
+        "the DXF's turn points on the sew line",
+        "cloth/files/astm.py",
+        "    for point in piece.cut[_turns(piece.cut)]:",
+        "    for point in piece.sew[_turns(piece.sew)]:",
+        "tests/test_pattern_rules.py -m 'not slow'",
+    ),
+    Bug(
+        "the printed girth lines 2 mm high",
+        "cloth/files/printout.py",
+        '        ax.plot([left, right], [y, y], snap=False, **PENS["girth"])',
+        '        ax.plot([left, right], [y + 2.0, y + 2.0], snap=False, **PENS["girth"])',
+        "tests/test_pattern_rules.py -m 'not slow'",
+    ),
+    Bug(
+        "centinewtons a thousandth of a newton",
+        "cloth/materials/labcsv.py",
+        '"force_cn": 1e-2',
+        '"force_cn": 1e-3',
+        "tests/test_units.py",
+    ),
+    Bug(
+        "the solver's own default tolerance 1e-6",
+        "cloth/case/settings.py",
+        "    tolerance: float = 1e-8",
+        "    tolerance: float = 1e-6",
+        "tests/test_inventory.py",
+    ),
+    Bug(
+        "a case without a contact block rubs with friction 0.1",
+        "cloth/case/case.py",
+        'Contact(contact_block.get("friction", 0.0), contact_block.get("slip_length"))',
+        'Contact(contact_block.get("friction", 0.1), contact_block.get("slip_length"))',
+        "tests/test_inventory.py",
+    ),
+    Bug(
+        "a case file written in place",
+        "cloth/files/casefile.py",
+        """    with atomic_output(path) as tmp:
+        tmp.write_text(yaml.safe_dump(data, sort_keys=False))""",
+        """    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(yaml.safe_dump(data, sort_keys=False))""",
+        "tests/test_architecture.py",
+    ),
+    Bug(
+        "a design row read at its target's position",
+        "cloth/stages/graded.py",
+        "        at = names.index(line)\n",
+        "        at = k\n",
+        "tests/test_design.py",
+    ),
+    Bug(
+        "the probe's centre the nodes' plain mean",
+        "cloth/results/bands.py",
+        "    return (area * weight) @ x[:, :2] / total",
+        "    return x[:, :2].mean(axis=0)",
+        "tests/test_rules.py -m 'not slow'",
+    ),
+    Bug(
+        "a level one node narrower than the smallest grid",
+        "cloth/stages/levels.py",
+        "        if n < MIN_AROUND or m < MIN_ROWS",
+        "        if n < MIN_AROUND - 1 or m < MIN_ROWS",
+        "tests/test_rules.py -m 'not slow'",
+    ),
+    Bug(
+        "the tape follows the skin into its hollows",
+        "cloth/bodies/sections.py",
+        "        return polygon_perimeter(hull_polygon(loops))",
+        "        return float(sum(np.linalg.norm(q[:, 1] - q[:, 0], axis=1).sum() for q in loops))",
+        "tests/test_rules.py -m 'not slow'",
+    ),
 ]
 
 

@@ -14,7 +14,7 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import assume, given, settings
+from hypothesis import Phase, assume, given, settings
 from hypothesis import strategies as st
 from matplotlib.path import Path as PolygonPath
 
@@ -35,7 +35,15 @@ PT_MM = 25.4 / 72.0
 
 
 def examples(count: int):
-    return settings(max_examples=count, deadline=None, derandomize=True, database=None)
+    """Hypothesis's settings: ``count`` examples, derandomised, not shrunk (each example writes
+    files: a failure is reported as found, at once)."""
+    return settings(
+        max_examples=count,
+        deadline=None,
+        derandomize=True,
+        database=None,
+        phases=(Phase.explicit, Phase.generate),
+    )
 
 
 @st.composite
