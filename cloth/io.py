@@ -13,6 +13,7 @@ import hashlib
 import json
 import os
 import shlex
+import shutil
 import sys
 import tempfile
 from collections.abc import Container, Iterator, Mapping
@@ -66,6 +67,30 @@ def atomic_output(path: str | Path) -> Iterator[Path]:
     finally:
         if tmp.exists():
             tmp.unlink()
+
+
+@contextlib.contextmanager
+def atomic_folder(path: str | Path) -> Iterator[Path]:
+    """Yield a temporary folder beside ``path``; if the block succeeds, each file and folder
+    written in it is renamed into ``path`` (created where missing), replacing only what has
+    its name (anything else in ``path`` stays), else it is removed: the outputs of several
+    stages appear together or not at all."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = Path(tempfile.mkdtemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent))
+    try:
+        yield tmp
+        path.mkdir(exist_ok=True)
+        for entry in sorted(tmp.iterdir()):
+            target = path / entry.name
+            if target.is_dir() and not target.is_symlink():
+                shutil.rmtree(target)
+            if entry.is_dir():
+                os.chmod(entry, 0o777 & ~_umask())
+            os.replace(entry, target)
+    finally:
+        if tmp.exists():
+            shutil.rmtree(tmp)
 
 
 _COMMAND: list[str] | None = None

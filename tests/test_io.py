@@ -68,3 +68,25 @@ def test_read_fields_reads_only_the_named_variables_as_written_and_refuses_as_re
     (tmp_path / "text.nc").write_text("not netCDF")
     with pytest.raises(InputError, match="not a readable netCDF file"):
         read_fields(tmp_path / "text.nc", "result", ("stress_weft",))
+
+
+def test_an_atomic_folder_publishes_all_its_files_or_none_and_keeps_the_others(tmp_path):
+    from cloth.io import atomic_folder
+
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "mine.txt").write_text("the user's")
+    (out / "sub").mkdir()
+    (out / "sub" / "old.txt").write_text("stale")
+    with pytest.raises(RuntimeError), atomic_folder(out) as folder:
+        (folder / "a.csv").write_text("1")
+        raise RuntimeError("the second stage fails")
+    assert sorted(p.name for p in out.iterdir()) == ["mine.txt", "sub"]
+    assert not list(tmp_path.glob(".out.*"))
+    with atomic_folder(out) as folder:
+        (folder / "a.csv").write_text("1")
+        (folder / "sub").mkdir()
+        (folder / "sub" / "new.txt").write_text("new")
+    assert sorted(p.name for p in out.iterdir()) == ["a.csv", "mine.txt", "sub"]
+    assert [p.name for p in (out / "sub").iterdir()] == ["new.txt"]  # her folder, replaced whole
+    assert (out / "mine.txt").read_text() == "the user's"

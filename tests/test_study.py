@@ -123,15 +123,33 @@ def test_a_study_compares_one_pattern_on_each_subject_and_pools_the_rows(tmp_pat
             "subjects[0]",
         ),
         ({"case": {**CASE, "garment": {**CASE["garment"], "pattern": None}}}, "garment.pattern"),
+        (  # her chart is read as her case runs: the study's folder is not left half-written
+            {
+                "subjects": [
+                    {
+                        "name": "ann",
+                        "body": {"cylinder": {"radius": 0.1}},
+                        "measurements": "ann.csv",
+                    },
+                    {
+                        "name": "bea",
+                        "body": {"leg": {"chart": "bea_chart.csv", "size": "bea"}},
+                        "measurements": "bea.csv",
+                    },
+                ]
+            },
+            "subjects[1].body",
+        ),
     ],
 )
 def test_a_bad_study_is_one_line_and_exit_2_with_nothing_written(tmp_path, capsys, change, where):
     case = change.get("case")
     if case is not None:
         case = {**case, "garment": {k: v for k, v in case["garment"].items() if v is not None}}
+    (tmp_path / "bea_chart.csv").write_text("size,B_cm,B_height_cm\nbea,22,11\n")
     path = write_study(tmp_path, change.get("subjects"), case)
     out = tmp_path / "out"
     assert main(["compare", str(path), "-o", str(out)]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and where in err[0], err
-    assert not out.exists()
+    assert not out.exists() and not list(tmp_path.glob(".out.*"))

@@ -35,6 +35,7 @@ from cloth.errors import EXIT_DIVERGED, InputError, StageFailed
 from cloth.files.body import body_from_record
 from cloth.files.casefile import write_case
 from cloth.files.measured import Measurements, read_measurements
+from cloth.io import atomic_folder
 from cloth.pipeline.config import load_case, validate_case
 from cloth.pipeline.sweep import write_rows
 from cloth.results.agreement import average_repeats, pooled_sd
@@ -381,7 +382,12 @@ def write_calibration(found: Calibration, measured_path: Path, output: Path, bas
                 "determined": int(found.determined[name]),
             }
         )
-    write_rows(rows, output / "calibration.csv", CALIBRATION_COLUMNS)
+    with atomic_folder(output) as folder:  # the three files together or none
+        _write_files(found, rows, measured, folder, base_dir)
+
+
+def _write_files(found: Calibration, rows: list[dict], measured, folder: Path, base_dir: Path):
+    write_rows(rows, folder / "calibration.csv", CALIBRATION_COLUMNS)
     fit_rows = [
         {
             "height_m": float(h),
@@ -401,5 +407,5 @@ def write_calibration(found: Calibration, measured_path: Path, output: Path, bas
             strict=True,
         )
     ]
-    write_rows(fit_rows, output / "fit.csv", FIT_COLUMNS)
-    write_case(found.case, output / "case.yaml", base_dir)
+    write_rows(fit_rows, folder / "fit.csv", FIT_COLUMNS)
+    write_case(found.case, folder / "case.yaml", base_dir)

@@ -29,7 +29,7 @@ from cloth.files.compared import (
     compare_rows,
 )
 from cloth.files.measured import Measurements, read_measurements
-from cloth.io import read_netcdf, write_netcdf
+from cloth.io import atomic_folder, read_netcdf, write_netcdf
 from cloth.pipeline.sweep import write_rows
 from cloth.results.agreement import Agreement, Compared, average_repeats
 from cloth.results.pressure import MMHG
@@ -107,7 +107,9 @@ def compare(result_path: Path, measured_path: Path, output: Path) -> dict[str, P
     result = read_netcdf(result_path, "result", RESULT_VARIABLES)
     table = compare_result(result, measured)
     sources = {"result": str(result_path), "measurements": str(measured_path)}
-    return write_compared(table, output, sources)
+    with atomic_folder(output) as folder:  # the four files together or none
+        paths = write_compared(table, folder, sources)
+    return {key: output / value.relative_to(folder) for key, value in paths.items()}
 
 
 def write_compared(table: Compared, output: Path, sources: dict[str, str]) -> dict[str, Path]:

@@ -36,7 +36,7 @@ from cloth.case.locations import relocated
 from cloth.errors import InputError
 from cloth.files.casefile import write_case
 from cloth.files.measured import read_measurements
-from cloth.io import read_netcdf, resolve
+from cloth.io import atomic_folder, read_netcdf, resolve
 from cloth.pipeline.config import load_case, validate_case
 from cloth.results.agreement import Compared
 from cloth.stages.case import run_case
@@ -104,13 +104,17 @@ def run_study(path: Path, output: Path, overrides: dict) -> dict[str, Path]:
         data = {**case, "body": subject["body"]}
         validate_case(data, f"{path}: subjects[{k}]")
         checked.append((subject["name"], measured, data))
-    parts: list[Compared] = []
-    for k, (name, measured, data) in enumerate(checked):
-        folder = output / name
-        case_file = write_case(data, folder / "case.yaml", path.parent)
-        log.info("study: subject %s (%d of %d)", name, k + 1, len(checked))
-        run_case(case_file, folder, overrides, stop_after="aggregate")
-        result = read_netcdf(folder / "result.nc", "result", RESULT_VARIABLES)
-        parts.append(compare_result(result, measured))
     sources = {"study": str(path)}
-    return write_compared(Compared.joined(parts), output, sources)
+    with atomic_folder(output) as folder:  # whole or absent, whichever subject fails
+        parts: list[Compared] = []
+        for k, (name, measured, data) in enumerate(checked):
+            case_file = write_case(data, folder / name / "case.yaml", path.parent)
+            log.info("study: subject %s (%d of %d)", name, k + 1, len(checked))
+            try:
+                run_case(case_file, folder / name, overrides, stop_after="aggregate")
+            except InputError as exc:  # her body's files: named by the study's key
+                raise InputError(exc.detail, f"{path}: subjects[{k}].body", exc.field) from None
+            result = read_netcdf(folder / name / "result.nc", "result", RESULT_VARIABLES)
+            parts.append(compare_result(result, measured))
+        paths = write_compared(Compared.joined(parts), folder, sources)
+    return {key: output / value.relative_to(folder) for key, value in paths.items()}
