@@ -107,8 +107,8 @@ def design_confirmed(path: Path) -> list[str]:
 def compare(path: Path) -> list[str]:
     """compare.csv: the result.nc its compare.nc names; a row named by a girth line is at that
     line's height, and its stated error is its ``error_line``'s relative error."""
-    with xr.open_dataset(path.parent / "compare.nc") as ds:
-        result = Path(ds.attrs["result_file"]) if "result_file" in ds.attrs else None
+    with xr.open_dataset(path.parent / "compare.nc") as ds:  # its sources: from its folder
+        result = path.parent / ds.attrs["result_file"] if "result_file" in ds.attrs else None
     if result is None:
         return []  # a study's rows: each subject's own result.nc (test_study checks them)
     ds = xr.load_dataset(result)

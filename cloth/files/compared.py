@@ -18,7 +18,8 @@ compare.nc (CF-1.11, ``cloth_kind = "compare"``) holds the same in SI along the 
 ``measured_pressure``, ``repeat_sd``, ``model_pressure``, ``model_pressure_error``,
 ``difference``, Pa) and ``group`` (the subjects and ``all``: ``places``, ``bias``, ``sd``,
 ``loa_low``, ``loa_high``, ``rmse``, ``repeat_sd`` Pa and ``r`` 1), with the files compared as
-global attributes.
+global attributes (``result_file`` and ``measurements_file``, or ``study_file``), relative to
+compare.nc's own folder.
 """
 
 from __future__ import annotations

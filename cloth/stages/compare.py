@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import json
 import logging
+import os
 from pathlib import Path
 
 import numpy as np
@@ -106,16 +107,23 @@ def compare(result_path: Path, measured_path: Path, output: Path) -> dict[str, P
     measured = read_measurements(measured_path)
     result = read_netcdf(result_path, "result", RESULT_VARIABLES)
     table = compare_result(result, measured)
-    sources = {"result": str(result_path), "measurements": str(measured_path)}
+    sources = {"result": result_path, "measurements": measured_path}
     with atomic_folder(output) as folder:  # the four files together or none
-        paths = write_compared(table, folder, sources)
+        paths = write_compared(table, folder, sources, output)
     return {key: output / value.relative_to(folder) for key, value in paths.items()}
 
 
-def write_compared(table: Compared, output: Path, sources: dict[str, str]) -> dict[str, Path]:
+def write_compared(
+    table: Compared, output: Path, sources: dict[str, Path], published: Path | None = None
+) -> dict[str, Path]:
     """compare.csv, agreement.csv, compare.nc (`cloth.files.compared`) and compare.png
-    (`cloth.figures.agreement`) into ``output``; the paths written, by name."""
+    (`cloth.figures.agreement`) into ``output``; the paths written, by name. compare.nc names
+    the ``sources`` relative to the folder it is published in (``published``, default
+    ``output``), so that a folder moved with its inputs still finds them."""
     from cloth.figures.agreement import agreement_figure  # late: matplotlib
+
+    home = (published or output).resolve()
+    sources = {k: os.path.relpath(Path(v).resolve(), home) for k, v in sources.items()}
 
     paths = {
         "compare_csv": write_rows(compare_rows(table), output / "compare.csv", COMPARE_COLUMNS),

@@ -104,7 +104,7 @@ def run_study(path: Path, output: Path, overrides: dict) -> dict[str, Path]:
         data = {**case, "body": subject["body"]}
         validate_case(data, f"{path}: subjects[{k}]")
         checked.append((subject["name"], measured, data))
-    sources = {"study": str(path)}
+    sources = {"study": path}
     with atomic_folder(output) as folder:  # whole or absent, whichever subject fails
         parts: list[Compared] = []
         for k, (name, measured, data) in enumerate(checked):
@@ -116,5 +116,5 @@ def run_study(path: Path, output: Path, overrides: dict) -> dict[str, Path]:
                 raise InputError(exc.detail, f"{path}: subjects[{k}].body", exc.field) from None
             result = read_netcdf(folder / name / "result.nc", "result", RESULT_VARIABLES)
             parts.append(compare_result(result, measured))
-        paths = write_compared(Compared.joined(parts), folder, sources)
+        paths = write_compared(Compared.joined(parts), folder, sources, output)
     return {key: output / value.relative_to(folder) for key, value in paths.items()}
