@@ -68,6 +68,15 @@ def _cases(folder: Path) -> dict[str, dict]:
             "garment": {"bottom": 0.1, "top": 0.6, "grid": [20, 12], **common},
             "solver": solver,
         },
+        # a band wider than tall (its box too, with the labels' room): the panel is made wide
+        # enough that the body fills its height, as drawn (not the box, whose depth shows)
+        "band": {
+            "material": "powernet",
+            "body": {"mesh": str(folder / "tube.obj"), "surface": "mesh"},
+            "landmarks": {"mid": 0.36},
+            "garment": {"bottom": 0.3, "top": 0.42, "grid": [20, 6], **common},
+            "solver": solver,
+        },
     }
 
 
@@ -77,7 +86,7 @@ def results(tmp_path_factory) -> dict[str, xr.Dataset]:
     return {name: load_result(folder / name, case) for name, case in _cases(folder).items()}
 
 
-@pytest.mark.parametrize("name", ["torso", "leg", "scan"])
+@pytest.mark.parametrize("name", ["torso", "leg", "scan", "band"])
 def test_the_body_fills_its_panel_and_the_labels_sit_beside_it(results, name):
     ds = results[name]
     body = body_band(ds)
@@ -117,6 +126,13 @@ def test_a_legs_panels_are_tall_and_a_torsos_wide(results):
         shapes[name] = cell.height / cell.width
         plt.close(fig)
     assert shapes["leg"] > 1.5 > shapes["torso"], shapes
+    fig = body_figure(results["band"], "body_pressure", body=body_band(results["band"]))
+    fig.canvas.draw()
+    fig.canvas.draw()
+    ax = next(a for a in fig.axes if a.name == "3d")
+    cell = ax.get_position(original=True).transformed(fig.transFigure)
+    assert cell.height / cell.width < 0.82  # wider than tall: the fill, not the tall zoom
+    plt.close(fig)
 
 
 def test_class_bands_only_where_the_case_judges_a_class(results):

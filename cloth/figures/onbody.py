@@ -59,8 +59,10 @@ FRAME_PAD, LABEL_GAP = 0.01, 0.01
 LABEL_POINTS, LABEL_ROOM_INCHES = 7, 1.15
 #: The 3D box's zoom in its panel (matplotlib's default 1 leaves a wide margin).
 ZOOM = 1.25
-#: Height of a figure's row of views, inches; a panel's width follows the body's aspect.
+#: Height of a figure's row of views, inches; a panel's width follows the body's aspect, up to
+#: `MAX_PANEL_WIDTH`.
 PANEL_HEIGHT = 5.0
+MAX_PANEL_WIDTH = 8.0
 #: Share of a tall panel's height its zoomed box may take (`_tallness`).
 TALL_FILL = 0.82
 #: Share of its panel's width a view's box (the body and its girth labels' room) may take once
@@ -195,21 +197,27 @@ def draw_view(
     ax.patch.set_visible(False)  # a neighbour's labels reach into this panel
 
 
-def fill_panels(fig: plt.Figure) -> None:
-    """Zoom every 3D view of the laid-out ``fig`` that is not tall (`_tallness`) so that its
-    box, as drawn, fills its panel: `TALL_FILL` of its height or `WIDE_FILL` of its width,
-    whichever binds. matplotlib fits a box by its diagonal, so a box wider than tall (a short
-    band of a torso, its labels' room beside it) was drawn in the middle half of its panel (an
-    avatar's band read 0.48 of the height). The projection is orthographic, so the drawn size
-    scales with the zoom."""
-    fig.draw_without_rendering()  # the constrained layout places the panels
-    for ax in fig.axes:
-        if ax.name != "3d" or _tallness(ax) > 1.0:  # a tall panel's box is zoomed to its height
+def fill_panels(fig: plt.Figure, drawn: Sequence[NDArray[np.float64]]) -> None:
+    """Zoom every 3D view of the laid-out ``fig`` that is not tall (`_tallness`) so that what
+    it draws, ``drawn`` ((P, 3) m per 3D view, in order: the garment and the body,
+    `framed_points`), fills `TALL_FILL` of its panel's height, or its box (the body and its
+    girth labels' room) `WIDE_FILL` of the panel's width, whichever binds. matplotlib fits a
+    box by its diagonal, so a box wider than tall (a short band of a torso, its labels' room
+    beside it) was drawn in the middle half of its panel (an avatar's band read 0.48 of the
+    height); and the box's own height, seen from above, is more than the body's (its depth
+    tilted into view), so the body is measured, not the box (a band filled 0.68). The box is
+    not drawn. The projection is orthographic, so the drawn size scales with the zoom."""
+    fig.draw_without_rendering()  # the constrained layout places the panels, and settles
+    fig.draw_without_rendering()  # on its second pass (as savefig does)
+    views = [ax for ax in fig.axes if ax.name == "3d"]
+    for ax, points in zip(views, drawn, strict=True):
+        if _tallness(ax) > 1.0:  # a tall panel's box is zoomed to its height
             continue
         corners = _box_corners(ax)
         spans = tuple(corners.max(axis=0) - corners.min(axis=0))  # draw_view's box aspect
         ax.set_box_aspect(spans, zoom=1.0)
-        height, width = drawn_share(ax, corners)
+        height = drawn_share(ax, points)[0]
+        width = drawn_share(ax, corners)[1]
         if height > 0 and width > 0:
             ax.set_box_aspect(spans, zoom=min(TALL_FILL / height, WIDE_FILL / width))
 
@@ -288,13 +296,17 @@ def framed_points(ds: xr.Dataset, body: tuple[NDArray, NDArray] | None) -> NDArr
 
 
 def panel_aspect(ds: xr.Dataset, body: tuple[NDArray, NDArray] | None, labels: bool) -> float:
-    """Width over height of one view's box (`frame`) of ``ds`` over ``body`` as the camera at
-    `ELEVATION` sees it: what a figure's panels are sized to."""
-    low, high = frame(framed_points(ds, body), VIEWS["front"], labels)
-    horizontal = float(np.max(high[:2] - low[:2]))
-    vertical = float(high[2] - low[2])
-    tilt = np.radians(ELEVATION)
-    return horizontal / (vertical * np.cos(tilt) + horizontal * np.sin(tilt))
+    """Width over height of the panel one view of ``ds`` over ``body`` fills both ways
+    (`fill_panels`): its box (`frame`, the girth labels' room included) `WIDE_FILL` of the
+    width when the body, as the front camera at `ELEVATION` sees it (its height, and its depth
+    tilted into view), is `TALL_FILL` of the height: what a figure's panels are sized to."""
+    points = framed_points(ds, body)
+    low, high = frame(points, VIEWS["front"], labels)
+    a, tilt = np.radians(VIEWS["front"]), np.radians(ELEVATION)
+    up = np.array([-np.cos(a) * np.sin(tilt), -np.sin(a) * np.sin(tilt), np.cos(tilt)])
+    width = float(np.max(high[:2] - low[:2]))
+    height = float(np.ptp(points @ up))
+    return (width / WIDE_FILL) / (height / TALL_FILL)
 
 
 def _colour_bar(fig, axes, norm: colors.Normalize, label: str, values: NDArray) -> None:
@@ -323,7 +335,7 @@ def body_figure(
     unit = label[label.index("[") + 1 : label.index("]")]
     low, high = value_range or field_range([ds], variable, scale)
     norm = colors.Normalize(low, high)
-    width = float(np.clip(PANEL_HEIGHT * panel_aspect(ds, body, True), 1.6, 6.0))
+    width = float(np.clip(PANEL_HEIGHT * panel_aspect(ds, body, True), 1.6, MAX_PANEL_WIDTH))
     fig = plt.figure(figsize=(3 * width + 1.4, PANEL_HEIGHT + 0.6), layout="constrained")
     axes = [fig.add_subplot(1, 3, k + 1, projection="3d") for k in range(3)]
     for ax, (view, azimuth) in zip(axes, VIEWS.items(), strict=True):
@@ -336,7 +348,7 @@ def body_figure(
     _colour_bar(fig, axes, norm, label, ds[variable].values * scale)
     status = "" if int(ds.attrs.get("converged", 1)) else " (NOT CONVERGED)"
     fig.suptitle(f"{ds.attrs.get('fabric_name', '')}: {label.split(' [')[0]} on the body{status}")
-    fill_panels(fig)
+    fill_panels(fig, [framed_points(ds, body)] * len(axes))
     return fig
 
 
@@ -365,15 +377,17 @@ def plot_sweep_on_body(
     fig = plt.figure(
         figsize=(2.6 * len(reductions) + 1.2, 3.0 * len(bodies) + 0.6), layout="constrained"
     )
-    axes = []
+    axes, drawn = [], []
     for body, reduction, ds in cases:
         k = bodies.index(body) * len(reductions) + reductions.index(reduction)
         ax = fig.add_subplot(len(bodies), len(reductions), k + 1, projection="3d")
-        draw_view(ax, ds, body_band(ds), variable, scale, norm, VIEWS[view], girths=False)
+        band = body_band(ds)
+        draw_view(ax, ds, band, variable, scale, norm, VIEWS[view], girths=False)
+        drawn.append(framed_points(ds, band))
         ax.set_title(f"{body}, reduction {reduction:g}", fontsize=8)
         axes.append(ax)
     every = np.concatenate([np.ravel(ds[variable].values) * scale for _, _, ds in cases])
     _colour_bar(fig, axes, norm, label, every)
     fig.suptitle(f"pressure on the body, {view} view")
-    fill_panels(fig)
+    fill_panels(fig, drawn)
     return save_figure(fig, path)
