@@ -93,6 +93,7 @@ def main(argv: list[str] | None = None) -> int:
                     text=True,
                     check=True,
                     env={"PYTHONPATH": str(tree), "PATH": "/usr/bin:/bin"},
+                    cwd=tree,  # python -c puts its working folder first on the path
                 )
                 for name, line in zip(made, run.stdout.split(), strict=True):
                     times[rev][name].append(float(line))
