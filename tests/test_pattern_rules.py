@@ -105,6 +105,15 @@ def read_block(path, name: str) -> dict[str, list]:
     return found
 
 
+def a_piece(pattern: Pattern, allowance: float, size: str):
+    """The piece of a drawn pattern; an allowance that folds its cut line is refused, which is
+    not a piece: hypothesis draws another."""
+    try:
+        return piece_of(pattern, size, "power net", allowance)
+    except InputError:
+        assume(False)
+
+
 def _polyline(entity) -> np.ndarray:
     return np.array([tuple(v.dxf.location)[:2] for v in entity.vertices])
 
@@ -115,10 +124,7 @@ def test_the_dxf_s_notches_lines_turns_grain_and_girths_hold_for_any_piece(tmp_p
     @given(drawn=patterns())
     def rule(drawn):
         pattern, allowance, size = drawn
-        try:
-            piece = piece_of(pattern, size, "power net", allowance)
-        except InputError:
-            assume(False)  # an allowance that folds the cut line is refused: not a piece
+        piece = a_piece(pattern, allowance, size)
         path = tmp_path / "pattern_astm.dxf"
         astm.write_nest([piece], path, "style", size)
         block = read_block(path, f"{piece.name}_{size}")
@@ -199,10 +205,7 @@ def test_the_pdf_s_notches_and_girth_lines_hold_for_any_piece(tmp_path, count):
     @given(drawn=patterns())
     def rule(drawn):
         pattern, allowance, size = drawn
-        try:
-            piece = piece_of(pattern, size, "power net", allowance)
-        except InputError:
-            assume(False)
+        piece = a_piece(pattern, allowance, size)
         path = write_pdf(piece, tmp_path / "pattern.pdf")
         depth = min(NOTCH_MM, allowance)
         segments = pdf_segments(path, piece)

@@ -40,13 +40,12 @@ from cloth.pipeline.config import load_case, validate_case
 from cloth.pipeline.sweep import write_rows
 from cloth.results.agreement import average_repeats, pooled_sd
 from cloth.results.calibration import PARAMETERS, Interval, Parameter, determined, intervals
-from cloth.results.fields import node_fields
 from cloth.results.landmarks import contact_force, landmark_heights
 from cloth.results.pressure import MMHG
 from cloth.results.sensing import Places, locate, model_readings
 from cloth.solvers import Diverged, relax
 from cloth.stages.case import initial_state
-from cloth.stages.levels import reported
+from cloth.stages.levels import reported_fields
 
 log = logging.getLogger(__name__)
 
@@ -155,22 +154,11 @@ class Model:
                 f"the case diverged with {values} ({exc}); start nearer, or fit fewer parameters",
                 EXIT_DIVERGED,
             ) from None
-        final = reported(state, final, body)
+        final, fields = reported_fields(state, final, body)
         shape = (state.grid.m, state.grid.n)
         if self.places is None:
             heights = landmark_heights(state.with_positions(final.x))
             self.places = locate(self.measured, heights, final.x, shape)
-        fields = node_fields(
-            state.grid,
-            final.x,
-            final.springs,
-            state.fabric.thickness,
-            final.forces,
-            final.unbalanced,
-            final.on_body,
-            final.normal,
-            state.constraint,
-        )
         out = model_readings(
             self.places, final.x, contact_force(fields), fields.area, state.case.reading
         )

@@ -29,7 +29,7 @@ from cloth.case import Settings
 from cloth.garment.cut import BodyCut, TableCut
 from cloth.garment.predeform import predeform
 from cloth.garment.state import State
-from cloth.results.fields import node_fields
+from cloth.results.fields import Fields, node_fields
 from cloth.results.landmarks import Landmark, landmark_heights, landmarks
 from cloth.results.richardson import estimate_levels
 from cloth.solvers import Diverged, relax
@@ -96,6 +96,13 @@ def girth_marks(
 ) -> tuple[Landmark, ...]:
     """The girth-line summaries of ``state``'s grid at the equilibrium ``final`` on ``body``,
     as result.nc reports them (`reported`)."""
+    final, fields = reported_fields(state, final, body)
+    return tuple(landmarks(heights, final.x, fields, state.grid, state.case.reading))
+
+
+def reported_fields(state: State, final: Evaluation, body: Body) -> tuple[Evaluation, Fields]:
+    """The evaluation result.nc reports at the equilibrium ``final`` (`reported`) and its node
+    fields (`cloth.results.fields.node_fields`)."""
     final = reported(state, final, body)
     fields = node_fields(
         state.grid,
@@ -108,7 +115,7 @@ def girth_marks(
         final.normal,
         state.constraint,
     )
-    return tuple(landmarks(heights, final.x, fields, state.grid, state.case.reading))
+    return final, fields
 
 
 def relax_level(
