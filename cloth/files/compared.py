@@ -30,7 +30,7 @@ import numpy as np
 import xarray as xr
 
 from cloth.io import global_attrs, variable
-from cloth.results.agreement import Agreement, Compared
+from cloth.results.agreement import Agreement, Compared, pooled_sd
 from cloth.results.pressure import MMHG
 
 #: compare.csv's columns.
@@ -75,17 +75,9 @@ def groups(table: Compared) -> list[tuple[str, Agreement, float]]:
     names = list(dict.fromkeys(table.subject))
     for name in [*names, POOLED] if len(names) > 1 else [POOLED]:
         part = table if name == POOLED else table.of_subject(name)
-        noise = _pooled(part)
+        noise = pooled_sd(part.repeats, part.repeat_sd)
         out.append((name, Agreement.of(part.model, part.measured), noise))
     return out
-
-
-def _pooled(part: Compared) -> float:
-    dof = part.repeats - 1
-    has = (dof > 0) & np.isfinite(part.repeat_sd)
-    if not has.any():
-        return float("nan")
-    return math.sqrt(float(np.sum(dof[has] * part.repeat_sd[has] ** 2) / np.sum(dof[has])))
 
 
 def compare_rows(table: Compared) -> list[dict[str, object]]:

@@ -53,14 +53,15 @@ def average_repeats(keys: Sequence[Hashable], values: NDArray[np.float64]) -> Av
     return Averaged(np.array([m[0] for m in members], dtype=np.int64), mean, sd, count)
 
 
-def pooled_sd(averaged: Averaged) -> float:
-    """The repeats' pooled standard deviation (module docstring); NaN where no place has
+def pooled_sd(count: NDArray[np.int64], sd: NDArray[np.float64]) -> float:
+    """The repeats' pooled standard deviation (module docstring) of places with ``count`` (P,)
+    readings whose sample standard deviations are ``sd`` (P,); NaN where no place has
     repeats."""
-    dof = averaged.count - 1
-    has = dof > 0
+    dof = count - 1
+    has = (dof > 0) & np.isfinite(sd)
     if not has.any():
         return float("nan")
-    return math.sqrt(float(np.sum(dof[has] * averaged.sd[has] ** 2) / np.sum(dof[has])))
+    return math.sqrt(float(np.sum(dof[has] * sd[has] ** 2) / np.sum(dof[has])))
 
 
 @dataclass(frozen=True)

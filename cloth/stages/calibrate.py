@@ -241,7 +241,8 @@ def readings_noise(measured: Measurements, noise: float) -> float:
     """The readings' noise (Pa): the repeats' pooled standard deviation where there are
     repeats, else ``noise``."""
     keys = list(zip(*_place_keys(measured), strict=True))
-    found = pooled_sd(average_repeats([str(k) for k in keys], measured.pressure))
+    averaged = average_repeats([str(k) for k in keys], measured.pressure)
+    found = pooled_sd(averaged.count, averaged.sd)
     return found if math.isfinite(found) and found > 0 else noise
 
 
