@@ -229,6 +229,19 @@ class Case:
         )
 
 
+#: Solver keys whose defaults follow the case's skin (`Case._build`): Newton without friction
+#: takes the fast path, friction the path from the wrap.
+SKIN_DEFAULTS = ("continuation", "reuse")
+
+
+def following_skin(data: Mapping[str, Any]) -> dict[str, Any]:
+    """A copy of the case mapping ``data`` without its solver's `SKIN_DEFAULTS`, so that they
+    take the defaults of the skin it has now (a validated case carries the old skin's)."""
+    out = copy.deepcopy(dict(data))
+    out["solver"] = {k: v for k, v in (out.get("solver") or {}).items() if k not in SKIN_DEFAULTS}
+    return out
+
+
 def _frozen(value: Any) -> Any:
     """A profile's mapping, read-only with text keys; a number as a float; None as None."""
     if isinstance(value, Mapping):

@@ -67,20 +67,6 @@ class Measurements:
         ``column``."""
         return InputError(message, self.source, f"row {row + 1}, {column}")
 
-    def of_subject(self, name: str) -> Measurements:
-        """The readings of one subject."""
-        keep = [k for k, s in enumerate(self.subject) if s == name]
-        return Measurements(
-            self.source,
-            tuple(self.point[k] for k in keep),
-            self.height[keep],
-            self.angle[keep],
-            self.pressure[keep],
-            self.probe[keep],
-            tuple(self.subject[k] for k in keep),
-            self.repeat[keep],
-        )
-
     @property
     def subjects(self) -> tuple[str, ...]:
         """The subjects in the order they first appear."""

@@ -27,6 +27,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
+from cloth.case.case import following_skin
 from cloth.errors import InputError
 
 #: The variant keys, as index entries, design rows and sweep.nc dimensions name them.
@@ -192,9 +193,5 @@ def variation_cases(data: dict, block: dict, wearer: str) -> dict[str, dict]:
             varied = variant.apply(varied, thickness)
         if variant is not None and variant.friction == 0.0 and "contact" in varied:
             varied["contact"] = {**varied["contact"], "friction": 0.0}
-        solver = dict(varied.get("solver") or {})
-        for key in ("continuation", "reuse"):  # their defaults follow the skin (Case)
-            solver.pop(key, None)
-        varied["solver"] = solver
-        out[f"{wearer}~{tag}"] = varied
+        out[f"{wearer}~{tag}"] = following_skin(varied)
     return out

@@ -30,13 +30,11 @@ from cloth.results.bands import probe_readings
 @dataclass(frozen=True)
 class Places:
     """Where readings are taken: ``height`` (R,) m, ``angle`` (R,) degrees from +x towards +y,
-    ``probe`` (R,) m (footprint diameters), ``line`` (R,) the girth line each was named by, or
-    ''."""
+    ``probe`` (R,) m (footprint diameters)."""
 
     height: NDArray[np.float64]
     angle: NDArray[np.float64]
     probe: NDArray[np.float64]
-    line: tuple[str, ...]
 
 
 def row_girths(x: NDArray[np.float64], shape: tuple[int, int]) -> NDArray[np.float64]:
@@ -87,7 +85,7 @@ def locate(
                 f"a {1e3 * measured.probe[k]:g} mm probe is larger than the girth there "
                 f"({1e3 * girth:.0f} mm); give the probe's diameter in mm",
             )
-    return Places(heights, np.array(measured.angle, dtype=float), measured.probe, measured.point)
+    return Places(heights, np.array(measured.angle, dtype=float), measured.probe)
 
 
 def model_readings(

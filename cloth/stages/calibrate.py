@@ -21,7 +21,6 @@ calibrated case.yaml.
 
 from __future__ import annotations
 
-import copy
 import logging
 import math
 from dataclasses import dataclass, replace
@@ -31,6 +30,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.optimize import least_squares
 
+from cloth.case.case import following_skin
 from cloth.errors import EXIT_DIVERGED, InputError, StageFailed
 from cloth.files.body import body_from_record
 from cloth.files.casefile import write_case
@@ -105,8 +105,8 @@ def start_values(data: dict, names: tuple[str, ...], source: str) -> dict[str, f
 
 def with_values(data: dict, values: dict[str, float]) -> dict:
     """The case mapping ``data`` with the parameters ``values`` set; the solver's continuation
-    and reuse left to follow the skin (their defaults differ with friction)."""
-    out = copy.deepcopy(data)
+    and reuse left to follow the skin (`cloth.case.case.following_skin`)."""
+    out = following_skin(data)
     for name, value in values.items():
         if name == "friction":
             out["contact"] = {**(out.get("contact") or {}), "friction": float(value)}
@@ -114,10 +114,6 @@ def with_values(data: dict, values: dict[str, float]) -> dict:
             out["body"]["tissue"] = {**out["body"]["tissue"], "modulus": float(value)}
         else:
             out["fabric_scale"] = float(value)
-    solver = dict(out.get("solver") or {})
-    for key in ("continuation", "reuse"):
-        solver.pop(key, None)
-    out["solver"] = solver
     return out
 
 
