@@ -14,7 +14,7 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import Phase, assume, given, settings
+from hypothesis import Phase, assume, example, given, settings
 from hypothesis import strategies as st
 from matplotlib.path import Path as PolygonPath
 
@@ -70,6 +70,23 @@ def patterns(draw) -> tuple[Pattern, float, str]:
     allowance = draw(st.floats(0.5, 15.0))
     size = draw(st.sampled_from(["XS", "M", "2XL", "42"]))
     return pattern, allowance, size
+
+
+#: CI's example: a notch at y = 0.75 mm, which the PDF prints at 0.74-0.76 (its 1/100 pt), so a
+#: match by rounding to 0.1 mm failed where the match within PDF_MM holds.
+NOTCH_ON_A_ROUNDING_EDGE = (
+    Pattern(
+        height=np.array([0.0, 5.0, 10.0, 15.0]),
+        width=np.array([82.2, 82.2, 93.47936012, 96.47936012]),
+        circumference=np.array([164.4, 164.4, 186.95872025, 192.95872025]),
+        cut_height=np.array([0.0, 0.005, 0.01, 0.015]),
+        reduction=None,
+        lines=(("L0", 0.75),),
+        cut="two-panel",
+    ),
+    0.5,
+    "XS",
+)
 
 
 def inside(polygon: np.ndarray, point, tolerance: float) -> bool:
@@ -203,6 +220,7 @@ def _black(colour) -> bool:
 def test_the_pdf_s_notches_and_girth_lines_hold_for_any_piece(tmp_path, count):
     @examples(count)
     @given(drawn=patterns())
+    @example(drawn=NOTCH_ON_A_ROUNDING_EDGE)
     def rule(drawn):
         pattern, allowance, size = drawn
         piece = a_piece(pattern, allowance, size)
@@ -221,12 +239,12 @@ def test_the_pdf_s_notches_and_girth_lines_hold_for_any_piece(tmp_path, count):
         for a, b in notches:
             start, end = (a, b) if distance(piece.cut, a) < distance(piece.cut, b) else (b, a)
             check_notch(start, end, piece.cut, piece.sew, allowance, depth, PDF_MM)
-        drawn_notches = {
-            tuple(np.round(np.concatenate(sorted([tuple(a), tuple(b)])), 1)) for a, b in notches
-        }
         for start, end in piece.notches:  # each notch is printed on some tile, whole
-            key = tuple(np.round(np.concatenate(sorted([tuple(start), tuple(end)])), 1))
-            assert key in drawn_notches, ("a notch is not printed where the piece has it", key)
+            assert any(
+                max(math.dist(start, a), math.dist(end, b)) < PDF_MM
+                or max(math.dist(start, b), math.dist(end, a)) < PDF_MM
+                for a, b in notches
+            ), ("a notch is not printed where the piece has it", start, end)
         heights = [y for _, y in pattern.lines]
         red = [
             (a, b, visible)
