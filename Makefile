@@ -20,7 +20,7 @@ OPTIONAL ?=
 export PATH := $(CURDIR)/$(BIN):$(PATH)
 export MPLBACKEND := Agg
 
-.PHONY: run test test-slow test-cluster test-browser test-all lint unit bench clean install mutate \
+.PHONY: bytecode run test test-slow test-cluster test-browser test-all lint unit bench clean install mutate \
 	bodies avatars wearers docs
 
 install: $(STAMP)
@@ -28,12 +28,18 @@ install: $(STAMP)
 $(STAMP): pyproject.toml
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet uv || true
-	$(BIN)/uv pip install --python $(BIN)/python --quiet -e '.[test,dev,view,docs]' \
+	$(BIN)/uv pip install --python $(BIN)/python --quiet --compile-bytecode -e '.[test,dev,view,docs]' \
 		|| $(BIN)/python -m pip install --quiet -e '.[test,dev,view,docs]'
 	$(foreach extra,$(OPTIONAL),$(BIN)/python -m pip install --quiet -e '.[$(extra)]' || echo "make: the extra $(extra) did not install; its tests skip" >&2;)
 	touch $(STAMP)
 
-run: $(STAMP)
+# cloth's own modules compiled to bytecode (compileall skips those up to date): every rule of the
+# pipeline and every CLI test is a new process, which would otherwise compile them from source
+# where the environment sets PYTHONDONTWRITEBYTECODE (docs/performance.md)
+bytecode: $(STAMP)
+	$(BIN)/python -m compileall -q cloth
+
+run: bytecode
 	$(BIN)/snakemake --cores $(CORES) --configfile $(CONFIG)
 
 lint: $(STAMP)
@@ -44,7 +50,7 @@ lint: $(STAMP)
 
 # the fast suite on both cores (pytest-xdist; a module's tests stay on one worker, so its
 # module-scoped fixtures are built once): every behaviour, no large grid (about 5 minutes)
-unit: $(STAMP)
+unit: bytecode
 	$(BIN)/python -m pytest -q -n 2 --dist loadscope
 
 test: lint unit
@@ -77,7 +83,7 @@ wearers: bodies
 
 # large grids, full-size scans, the tiny pipeline end to end, the pipeline killed and resumed,
 # avatars fitted (tens of minutes; .ci/run)
-test-slow: $(STAMP) bodies
+test-slow: bytecode bodies
 	$(BIN)/python -m pytest -q -n 2 --dist loadscope -m slow
 
 # the pipeline through a single-node SLURM started by the test (root, Debian's slurmctld, slurmd
