@@ -270,3 +270,36 @@ def test_a_rerun_is_bit_identical(tmp_path, rows, levels):
         assert np.array_equal(variable.values, second[name].values, equal_nan=True) or (
             variable.dtype.kind not in "fc" and (variable.values == second[name].values).all()
         ), name
+
+
+def test_levels_as_continuation_find_the_equilibria_each_grid_has_alone(tmp_path):
+    """With continuation (from 100 nodes, so a 48 x 12 grid is coarsened) the error levels are
+    the fine grid's continuation (`cloth.stages.levels.relax_ladder`): each level starts from the
+    one below. Each must still be the equilibrium a user asking for its grid gets: the fine
+    grid's and each level's girth-line values equal those of the grid relaxed on its own (its
+    own continuation, no levels), to the solver's tolerance."""
+    case = {
+        "material": "powernet",
+        "body": CONE,
+        "landmarks": LINES,
+        "garment": {
+            "bottom": 0.1,
+            "top": 0.4,
+            "reduction": 0.15,
+            "lengthwise_reduction": 0.1,
+            "grid": [48, 12],
+        },
+        "solver": {"continuation": True, "coarsest": 100},
+    }
+    laddered = load_result(tmp_path / "ladder", case)
+    assert laddered["level_n"].values.tolist() == [48, 24, 12]
+    for k, (n, m) in enumerate(zip(laddered["level_n"].values, laddered["level_m"].values)):
+        alone = {**case, "garment": {**case["garment"], "grid": [int(n), int(m)]}}
+        alone["garment"]["error_estimate"] = False
+        single = load_result(tmp_path / f"alone{n}", alone)
+        np.testing.assert_allclose(
+            laddered["level_pressure_mean"].values[k],
+            single["pressure_mean"].values,
+            rtol=1e-6,
+            err_msg=f"{n} x {m}",
+        )

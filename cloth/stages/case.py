@@ -34,7 +34,7 @@ from cloth.solvers import Diverged, relax
 from cloth.solvers.problem import Problem
 from cloth.solvers.relax import Result
 from cloth.stages.cuts import case_cut
-from cloth.stages.levels import LEVELS, Level, refine, relax_levels
+from cloth.stages.levels import LEVELS, Level, ladder, refine, relax_ladder, relax_levels
 
 log = logging.getLogger("cloth")
 
@@ -128,11 +128,13 @@ def relax_state(state, overrides: dict, output: Path, previous: dict | None = No
     settings = replace(state.case.solver, **overrides)
     body = body_from_record(state.body, output)
     garment = state.case.garment
-    refined = None
+    refined, solved = None, None
     try:
         if garment.auto:
             refined = refine(state, body, settings, garment.accuracy, garment.max_nodes)
             state, result = refined.state, refined.result
+        elif garment.error_estimate and ladder(state, settings):
+            result, solved = relax_ladder(state, body, settings, LEVELS)
         else:
             result = relax(state, body, settings)
     except Diverged as exc:
@@ -156,6 +158,9 @@ def relax_state(state, overrides: dict, output: Path, previous: dict | None = No
             grid_met=refined.met,
             grid_worst_error=refined.worst,
         )
+    elif solved is not None:
+        levels = [level.level(heights, body) for level in solved]
+        ds = ds.assign(levels_dataset(levels, heights))
     elif garment.error_estimate:
         levels = relax_levels(relaxed, body, settings, heights, LEVELS)
         ds = ds.assign(levels_dataset(levels, heights))

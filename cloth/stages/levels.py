@@ -15,6 +15,14 @@ the reported value's order, extrapolation and error (`cloth.files.levels` writes
 Continuation's own levels are not these: they keep a subset of the fine grid's rows, unevenly
 spaced where m - 1 is odd (a pattern a user could not ask for), and are relaxed only to 1e-6.
 At r = 2 a level costs about a quarter of the grid above it, so two levels add about a third.
+So where the case's solver has continuation and its grid would be coarsened (`ladder`), the
+levels take continuation's place (`relax_ladder`): the coarsest is relaxed as a user asking
+for it would be (from its own pre-deformation, with its own continuation), each finer one
+starts from the equilibrium below it (`cloth.solvers.continuation.carry_contact`, as
+continuation starts a grid), and the case's grid from the finest level's. Each is relaxed to
+the case's tolerance, so its equilibrium is the one a user asking for that grid gets (to the
+tolerance; `tests/test_levels.py` compares them), and the fine grid's own coarse levels are
+not solved again.
 """
 
 from __future__ import annotations
@@ -32,7 +40,7 @@ from cloth.garment.state import State
 from cloth.results.fields import Fields, node_fields
 from cloth.results.landmarks import Landmark, landmark_heights, landmarks
 from cloth.results.richardson import estimate_levels
-from cloth.solvers import Diverged, relax
+from cloth.solvers import Diverged, continuation, relax
 from cloth.solvers.problem import Evaluation, Problem
 from cloth.solvers.relax import Result
 from cloth.stages.cuts import state_cut
@@ -118,24 +126,47 @@ def reported_fields(state: State, final: Evaluation, body: Body) -> tuple[Evalua
     return final, fields
 
 
-def relax_level(
+@dataclass(frozen=True)
+class Solved:
+    """One level relaxed: its initial ``state``, its ``result`` (None where it diverged) and
+    the ``seconds`` its pre-deformation and relaxation took."""
+
+    state: State
+    result: Result | None
+    seconds: float
+
+    def level(self, heights: dict[str, float], body: Body) -> Level:
+        """This level's girth lines at the fine grid's ``heights`` (m); none where it diverged."""
+        grid = (self.state.grid.n, self.state.grid.m)
+        if self.result is None:
+            return Level(grid, (), False, self.seconds)
+        marks = girth_marks(self.state, self.result.final, heights, body)
+        return Level(grid, marks, self.result.converged, self.seconds)
+
+
+def solve_level(
     state: State,
     body: Body,
     settings: Settings,
     grid: tuple[int, int],
-    heights: dict[str, float],
     pattern: BodyCut | TableCut | None = None,
-) -> Level:
-    """``state``'s case on ``grid``: pre-deformed, relaxed (no progress bar) and summarised at
-    ``heights`` (m); a level that diverges has no marks (its estimate says so). ``pattern``:
-    the garment's (`cloth.stages.cuts.state_cut`), where the case gives one."""
+    below: Solved | None = None,
+) -> Solved:
+    """``state``'s case on ``grid``: pre-deformed and relaxed (no progress bar); started from
+    the equilibrium of the level ``below`` where it is given and converged (`relax_ladder`), else
+    from its own pre-deformation. ``pattern``: the garment's (`cloth.stages.cuts.state_cut`),
+    where the case gives one."""
     start = time.perf_counter()
     coarse = predeform(state.case, state.fabric, body, state.body, grid=grid, pattern=pattern)
+    settings = replace(settings, progress=False)
+    if below is not None and below.result is not None:
+        coarse = started_from(coarse, below.state, below.result, body)
+        settings = replace(settings, continuation=False)
     try:
-        result = relax(coarse, body, replace(settings, progress=False))
+        result = relax(coarse, body, settings)
     except Diverged as failure:
         log.warning("levels: the %d x %d level diverged (%s): no error estimate", *grid, failure)
-        return Level(grid, (), False, time.perf_counter() - start)
+        return Solved(coarse, None, time.perf_counter() - start)
     seconds = time.perf_counter() - start
     log.info(
         "levels: %d x %d relaxed in %d iterations (residual %.2e), %.2f s",
@@ -144,7 +175,46 @@ def relax_level(
         result.final.residual,
         seconds,
     )
-    return Level(grid, girth_marks(coarse, result.final, heights, body), result.converged, seconds)
+    return Solved(coarse, result, seconds)
+
+
+def started_from(state: State, below: State, result: Result, body: Body) -> State:
+    """``state`` with its positions from the coarser equilibrium ``result`` of ``below``, as
+    continuation starts a grid (`cloth.solvers.continuation.carry_contact`)."""
+    final = result.final
+    x = continuation.carry_contact(final.x, final.on_body, below.grid, state, body)
+    return state.with_positions(x)
+
+
+def ladder(state: State, settings: Settings) -> bool:
+    """Whether ``state``'s relaxation would start from coarser grids of its own
+    (`cloth.solvers.continuation`): its solver has continuation and its grid is coarsened.
+    Then its error levels take their place (`relax_ladder`)."""
+    return (
+        settings.continuation
+        and continuation.uniform_rows(state)
+        and bool(continuation.levels(state.grid, settings.coarsest))
+    )
+
+
+def relax_ladder(
+    state: State, body: Body, settings: Settings, count: int
+) -> tuple[Result, list[Solved]]:
+    """``state`` relaxed, with its ``count`` coarser levels (finest first) as its continuation
+    (module docstring; where `ladder` holds): the coarsest relaxed first, each finer grid,
+    ``state``'s last, started from the one below. Raises `Diverged` where ``state``'s grid
+    diverges."""
+    below: Solved | None = None
+    solved = []
+    pattern = state_cut(state)
+    for grid in reversed(level_grids(state, count)):
+        below = solve_level(state, body, settings, grid, pattern, below)
+        solved.append(below)
+    if below is None or below.result is None:
+        return relax(state, body, settings), solved[::-1]
+    started = started_from(state, below.state, below.result, body)
+    fine = relax(started, body, replace(settings, continuation=False))
+    return fine, solved[::-1]
 
 
 def relax_levels(
@@ -152,6 +222,17 @@ def relax_levels(
 ) -> list[Level]:
     """The ``count`` coarser levels of ``state``'s grid (`coarser_grids` at the case's
     ``garment.level_ratio``), finest first."""
+    pattern = state_cut(state)
+    return [
+        solve_level(state, body, settings, grid, pattern).level(heights, body)
+        for grid in level_grids(state, count)
+    ]
+
+
+def level_grids(state: State, count: int) -> list[tuple[int, int]]:
+    """The grids of ``state``'s ``count`` coarser levels (`coarser_grids` at the case's
+    ``garment.level_ratio``), finest first; none (with a warning) where fewer than two fit
+    (one level shows no order)."""
     ratio = state.case.garment.level_ratio
     grids = coarser_grids((state.grid.n, state.grid.m), count, ratio)
     if count and len(grids) < count:
@@ -167,10 +248,7 @@ def relax_levels(
             MIN_ROWS,
             count,
         )
-    if len(grids) < 2:  # one level shows no order
-        return []
-    pattern = state_cut(state)
-    return [relax_level(state, body, settings, grid, heights, pattern) for grid in grids]
+    return grids if len(grids) >= 2 else []
 
 
 @dataclass(frozen=True)
@@ -210,14 +288,19 @@ def refine(start: State, body: Body, settings: Settings, accuracy: float, cap: i
     """``grid: auto``: relax ``start`` (the case on `cloth.garment.predeform.start_grid`), then
     the case on grids with n and m doubled, until the stated error of every girth-line mean
     (from the grid and the two below it) is at most ``accuracy`` (1), or the next grid would
-    pass ``cap`` nodes. A grid that diverges ends the refinement on the one before (`Diverged`
-    from the first)."""
+    pass ``cap`` nodes. Where `ladder` holds, each grid starts from the equilibrium below it,
+    in place of its own continuation. A grid that diverges ends the refinement on the one
+    before (`Diverged` from the first)."""
     runs: list[tuple[State, Result]] = []
     pattern = state_cut(start)
     state, met, worst, which = start, "node cap", math.inf, "fewer than three grids"
     while True:
         try:
-            result = relax(state, body, settings)
+            if runs and ladder(state, settings):  # the grid below as its continuation
+                started = started_from(state, *runs[-1], body)
+                result = relax(started, body, replace(settings, continuation=False))
+            else:
+                result = relax(state, body, settings)
         except Diverged as failure:
             if not runs:
                 raise
