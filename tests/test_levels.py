@@ -293,7 +293,8 @@ def test_levels_as_continuation_find_the_equilibria_each_grid_has_alone(tmp_path
     }
     laddered = load_result(tmp_path / "ladder", case)
     assert laddered["level_n"].values.tolist() == [48, 24, 12]
-    for k, (n, m) in enumerate(zip(laddered["level_n"].values, laddered["level_m"].values)):
+    grids = zip(laddered["level_n"].values, laddered["level_m"].values, strict=True)
+    for k, (n, m) in enumerate(grids):
         alone = {**case, "garment": {**case["garment"], "grid": [int(n), int(m)]}}
         alone["garment"]["error_estimate"] = False
         single = load_result(tmp_path / f"alone{n}", alone)
