@@ -29,9 +29,10 @@ CONE = {"cone": {"radius_bottom": 0.13, "radius_top": 0.09, "bottom": 0.0, "top"
 LINES = {"low": 0.17, "mid": 0.25}
 
 
-def _cone(folder: Path, grid: list[int], estimate: bool = True, stop: str = "aggregate") -> Path:
+def _cone_case(grid: list[int], solver: dict | None = None, **garment) -> dict:
     """A tube on a cone, its warp stretched (lengthwise reduction 0.1) so that no fabric is
-    compressed: one stable equilibrium, every row its own radius and pressure."""
+    compressed: one stable equilibrium, every row its own radius and pressure; ``garment``
+    keys on top of the garment block, ``solver`` as the solver block."""
     case = {
         "material": "powernet",
         "body": CONE,
@@ -42,10 +43,15 @@ def _cone(folder: Path, grid: list[int], estimate: bool = True, stop: str = "agg
             "reduction": 0.15,
             "lengthwise_reduction": 0.1,
             "grid": grid,
-            "error_estimate": estimate,
+            **garment,
         },
     }
-    return run_result(folder, case, stop)
+    return case if solver is None else {**case, "solver": solver}
+
+
+def _cone(folder: Path, grid: list[int], estimate: bool = True, stop: str = "aggregate") -> Path:
+    """`_cone_case` run to ``stop`` in ``folder``, with or without its error ``estimate``."""
+    return run_result(folder, _cone_case(grid, error_estimate=estimate), stop)
 
 
 @pytest.fixture(scope="module")
@@ -250,20 +256,7 @@ def test_a_rerun_is_bit_identical(tmp_path, rows, levels):
     """The same case run twice (with its levels, continuation from 100 nodes and factor reuse,
     so every path of the estimate runs; equally spaced rows and graded ones at another level
     ratio) writes the same numbers to the last bit."""
-    case = {
-        "material": "powernet",
-        "body": CONE,
-        "landmarks": LINES,
-        "garment": {
-            "bottom": 0.1,
-            "top": 0.4,
-            "reduction": 0.15,
-            "lengthwise_reduction": 0.1,
-            "grid": [48, 12],
-            **rows,
-        },
-        "solver": {"continuation": True, "coarsest": 100, "reuse": True},
-    }
+    case = _cone_case([48, 12], {"continuation": True, "coarsest": 100, "reuse": True}, **rows)
     first, second = (load_result(tmp_path / name, case) for name in ("one", "two"))
     assert first["level_n"].values.tolist() == levels
     for name, variable in first.data_vars.items():
@@ -278,25 +271,12 @@ def test_levels_as_continuation_find_the_equilibria_each_grid_has_alone(tmp_path
     one below. Each must still be the equilibrium a user asking for its grid gets: the fine
     grid's and each level's girth-line values equal those of the grid relaxed on its own (its
     own continuation, no levels), to the solver's tolerance."""
-    case = {
-        "material": "powernet",
-        "body": CONE,
-        "landmarks": LINES,
-        "garment": {
-            "bottom": 0.1,
-            "top": 0.4,
-            "reduction": 0.15,
-            "lengthwise_reduction": 0.1,
-            "grid": [48, 12],
-        },
-        "solver": {"continuation": True, "coarsest": 100},
-    }
-    laddered = load_result(tmp_path / "ladder", case)
+    solver = {"continuation": True, "coarsest": 100}
+    laddered = load_result(tmp_path / "ladder", _cone_case([48, 12], solver))
     assert laddered["level_n"].values.tolist() == [48, 24, 12]
     grids = zip(laddered["level_n"].values, laddered["level_m"].values, strict=True)
     for k, (n, m) in enumerate(grids):
-        alone = {**case, "garment": {**case["garment"], "grid": [int(n), int(m)]}}
-        alone["garment"]["error_estimate"] = False
+        alone = _cone_case([int(n), int(m)], solver, error_estimate=False)
         single = load_result(tmp_path / f"alone{n}", alone)
         np.testing.assert_allclose(
             laddered["level_pressure_mean"].values[k],
