@@ -159,11 +159,11 @@ def solve_level(
     start = time.perf_counter()
     coarse = predeform(state.case, state.fabric, body, state.body, grid=grid, pattern=pattern)
     settings = replace(settings, progress=False)
-    if below is not None and below.result is not None:
-        coarse = started_from(coarse, below.state, below.result, body)
-        settings = replace(settings, continuation=False)
     try:
-        result = relax(coarse, body, settings)
+        if below is not None and below.result is not None:
+            result = relax_above(coarse, below.state, below.result, body, settings)
+        else:
+            result = relax(coarse, body, settings)
     except Diverged as failure:
         log.warning("levels: the %d x %d level diverged (%s): no error estimate", *grid, failure)
         return Solved(coarse, None, time.perf_counter() - start)
@@ -178,12 +178,15 @@ def solve_level(
     return Solved(coarse, result, seconds)
 
 
-def started_from(state: State, below: State, result: Result, body: Body) -> State:
-    """``state`` with its positions from the coarser equilibrium ``result`` of ``below``, as
-    continuation starts a grid (`cloth.solvers.continuation.carry_contact`)."""
+def relax_above(
+    state: State, below: State, result: Result, body: Body, settings: Settings
+) -> Result:
+    """``state`` relaxed from the coarser equilibrium ``result`` of ``below``, carried up as
+    continuation starts a grid (`cloth.solvers.continuation.carry_contact`), in place of its
+    own continuation."""
     final = result.final
     x = continuation.carry_contact(final.x, final.on_body, below.grid, state, body)
-    return state.with_positions(x)
+    return relax(state.with_positions(x), body, replace(settings, continuation=False))
 
 
 def ladder(state: State, settings: Settings) -> bool:
@@ -212,9 +215,7 @@ def relax_ladder(
         solved.append(below)
     if below is None or below.result is None:
         return relax(state, body, settings), solved[::-1]
-    started = started_from(state, below.state, below.result, body)
-    fine = relax(started, body, replace(settings, continuation=False))
-    return fine, solved[::-1]
+    return relax_above(state, below.state, below.result, body, settings), solved[::-1]
 
 
 def relax_levels(
@@ -297,8 +298,7 @@ def refine(start: State, body: Body, settings: Settings, accuracy: float, cap: i
     while True:
         try:
             if runs and ladder(state, settings):  # the grid below as its continuation
-                started = started_from(state, *runs[-1], body)
-                result = relax(started, body, replace(settings, continuation=False))
+                result = relax_above(state, *runs[-1], body, settings)
             else:
                 result = relax(state, body, settings)
         except Diverged as failure:
