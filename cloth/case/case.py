@@ -36,6 +36,7 @@ from types import MappingProxyType
 from typing import Any
 
 from cloth.case.judge import Judge
+from cloth.case.pieces import Pieces
 from cloth.case.profile import Profile
 from cloth.case.reading import Reading
 from cloth.case.settings import Settings
@@ -100,6 +101,8 @@ class GarmentSpec:
     auto: bool = False
     accuracy: float = 0.01
     max_nodes: int = 100_000
+    #: Bands, panels, layers and seams (`cloth.case.pieces`); none: one fabric.
+    pieces: Pieces = Pieces()
 
     @property
     def nodes(self) -> int:
@@ -153,6 +156,7 @@ class GarmentSpec:
             auto=auto,
             accuracy=float(block.get("accuracy", 0.01)),
             max_nodes=int(block.get("max_nodes", 100_000)),
+            pieces=Pieces.from_block(block),
         )
 
 
@@ -213,6 +217,7 @@ class Case:
         block.setdefault("reuse", fast)
         solver = _settings(block)
         Skin(tissue, contact).check_solver(solver.method, solver.continuation)
+        garment.pieces.check(garment.bottom, garment.top, list(data.get("landmarks") or {}))
         return cls(
             material=str(data["material"]),
             body=BodySpec(kinds[0] if kinds else "", MappingProxyType(body_block), tissue),

@@ -160,6 +160,7 @@ __all__ = [
     "fit_errors",
     "load_fabric",
     "material_dataset",
+    "piece_fabrics",
 ]
 
 
@@ -167,6 +168,27 @@ def case_fabric(case, base_dir: str | Path = ".") -> Fabric:
     """The fabric a case (`cloth.case.Case`) wears: its ``material`` (`load_fabric`) with the
     stresses scaled by its ``fabric_scale``."""
     return load_fabric(case.material, base_dir).scaled(case.fabric_scale)
+
+
+def piece_fabrics(case, base_dir: str | Path = ".") -> dict[str, Fabric]:
+    """The fabrics a case's bands, panels, layers and seams name (`cloth.case.pieces`), by
+    name (`load_fabric`; the case's ``fabric_scale`` is its own material's only); `InputError`
+    naming the key of the first that will not load."""
+    pieces = case.garment.pieces
+    out: dict[str, Fabric] = {}
+    keys = [(f"garment.bands[{k}].material", b.material) for k, b in enumerate(pieces.bands)]
+    keys += [(f"garment.panels[{k}].material", p.material) for k, p in enumerate(pieces.panels)]
+    keys += [(f"garment.layers[{k}].material", x.material) for k, x in enumerate(pieces.layers)]
+    if pieces.panels and pieces.seams.material is not None:
+        keys.append(("garment.seams.material", pieces.seams.material))
+    for key, name in keys:
+        if name in out or name == case.material:
+            continue
+        try:
+            out[name] = load_fabric(name, base_dir)
+        except InputError as exc:
+            raise InputError(exc.detail, exc.source, key) from None
+    return out
 
 
 def load_fabric(spec: str, base_dir: str | Path = ".") -> Fabric:

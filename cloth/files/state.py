@@ -24,6 +24,8 @@ fabric curves          see cloth.files.material
 from __future__ import annotations
 
 import json
+import re
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -33,6 +35,7 @@ from cloth import __version__
 from cloth.case import Case
 from cloth.errors import InputError
 from cloth.files.material import fabric_from_dataset, fabric_variables
+from cloth.files.pieces import pieces_attrs, pieces_from_dataset, pieces_variables
 from cloth.garment.grid import FAMILIES, Grid, StressStrainCurve
 from cloth.garment.state import State, grid_fabric
 from cloth.io import flag_variable, global_attrs, node_variable, read_netcdf, to_attr, variable
@@ -95,6 +98,7 @@ def state_dataset(state: State, stage: str, previous: dict[str, Any] | None = No
         ),
     }
     variables.update(fabric_variables(state.fabric))
+    variables.update(pieces_variables(grid, state.fabrics))
     coords = {
         "row": variable(
             "row", np.arange(grid.m, dtype=np.int32), "1", "warp index j (bottom to top)"
@@ -119,6 +123,7 @@ def state_dataset(state: State, stage: str, previous: dict[str, Any] | None = No
         }
     )
     attrs.update({key: to_attr(value) for key, value in state.attrs.items()})
+    attrs.update(pieces_attrs(grid, state.fabrics))
     return xr.Dataset(variables, coords=coords, attrs=attrs)
 
 
@@ -163,6 +168,9 @@ def state_from_dataset(ds: xr.Dataset, source: str = "state") -> State:
         curves=tuple(curves),
         thickness=fabric.thickness,
     )
+    materials, fabrics = pieces_from_dataset(ds)
+    if materials is not None:
+        grid = replace(grid, materials=materials)
     x = np.stack([ds[c].values.ravel() for c in ("x", "y", "z")], axis=1).astype(np.float64)
     if "case" not in ds.attrs:
         raise InputError("the file has no case; re-run the stage that made it", source, "case")
@@ -186,6 +194,10 @@ def state_from_dataset(ds: xr.Dataset, source: str = "state") -> State:
         "body",
         "moduli",
         "stage",
+        "fabrics",
+        "fabric_thickness",
+        "seam_share",
+        "row_split",
     }
     return State(
         grid=grid,
@@ -198,7 +210,10 @@ def state_from_dataset(ds: xr.Dataset, source: str = "state") -> State:
         body=json.loads(ds.attrs.get("body", "{}")),
         moduli=moduli,
         skin=case.skin,
-        attrs={k: v for k, v in ds.attrs.items() if k not in skip},
+        attrs={
+            k: v for k, v in ds.attrs.items() if k not in skip and not re.match(r"fabric\d+_", k)
+        },
+        fabrics=fabrics,
     )
 
 

@@ -30,6 +30,7 @@ stresses is measured in the tests, never silently on.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -67,6 +68,9 @@ class Grid:
     curves : tuple of (StressStrainCurve or None)
         Curve of each family, indexed like `FAMILIES`.
     thickness : float, m
+    materials : SpringMaterials, optional
+        The fabrics of the weft and warp springs of a garment of several
+        (`cloth.garment.pieces`): each spring's own composite curve in place of the family's.
     """
 
     n: int
@@ -80,6 +84,7 @@ class Grid:
     family_slices: tuple[slice, ...]
     curves: tuple[StressStrainCurve | None, ...]
     thickness: float
+    materials: Any = None
 
     @property
     def n_nodes(self) -> int:
@@ -104,12 +109,18 @@ class Grid:
         return all(curve.tension_only for _, curve in self.segments())
 
     def segments(self) -> list[tuple[slice, StressStrainCurve]]:
-        """(slice, curve) for every family present, in spring order."""
-        return [
+        """(slice, curve) for every family present, in spring order; for a garment of several
+        fabrics the weft and warp springs are one slice evaluated by their `CurveSet`
+        (`cloth.materials.curveset`), which answers as a curve does."""
+        out = [
             (sl, curve)
             for sl, curve in zip(self.family_slices, self.curves, strict=True)
             if curve is not None and sl.stop > sl.start
         ]
+        if self.materials is None:
+            return out
+        woven = slice(0, self.family_slices[WARP].stop)
+        return [(woven, self.materials.curve_set), *out[2:]]
 
 
 def _checked_rows(values: ArrayLike, m: int, what: str) -> NDArray[np.float64]:
@@ -274,7 +285,9 @@ def node_area(x: NDArray[np.float64], grid: Grid) -> NDArray[np.float64]:
 
     A quarter of each adjacent grid cell (cells are the quads (i, j), (i+1, j), (i+1, j+1),
     (i, j+1), closed around a tube); a cell's area is half the norm of the cross product of its
-    diagonals (exact for planar quads). Edge rows get half cells.
+    diagonals (exact for planar quads). Edge rows get half cells. Beside a band's edge
+    (`cloth.garment.pieces`) a cell is shared between its rows as their strips of fabric share
+    it (``grid.materials.split``), not in halves.
     """
     pts = x.reshape(grid.m, grid.n, 3)
     nxt = np.roll(pts, -1, axis=1) if grid.closed else pts[:, 1:]
@@ -283,9 +296,21 @@ def node_area(x: NDArray[np.float64], grid: Grid) -> NDArray[np.float64]:
     d2 = here[1:] - nxt[:-1]  # (i+1, j) -> (i, j+1)
     cell = 0.5 * np.linalg.norm(np.cross(d1, d2), axis=2)  # (m-1, cells)
     area = np.zeros((grid.m, grid.n))
-    quarter = 0.25 * cell
     cols = np.arange(cell.shape[1])
+    split = getattr(grid.materials, "split", None)
+    shares = (0.5, 0.5) if split is None else (split[:, None], 1.0 - split[:, None])
     for dj in (0, 1):
+        part = 0.5 * shares[dj] * cell
         for di in (0, 1):
-            np.add.at(area, (slice(dj, dj + grid.m - 1), (cols + di) % grid.n), quarter)
+            np.add.at(area, (slice(dj, dj + grid.m - 1), (cols + di) % grid.n), part)
     return area.ravel()
+
+
+def spring_thickness(grid: Grid) -> NDArray[np.float64]:
+    """(S,) float, m: the thickness of each spring's own fabric (the grid's, but for the weft
+    and warp springs of a garment of several fabrics, `cloth.garment.pieces`)."""
+    out = np.full(grid.n_springs, grid.thickness)
+    if grid.materials is not None:
+        own = grid.materials.thickness
+        out[: own.size] = own
+    return out

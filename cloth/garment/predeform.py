@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import json
 import logging
+from collections.abc import Mapping
 from dataclasses import replace
 
 import numpy as np
@@ -37,6 +38,14 @@ from cloth.case import Case
 from cloth.errors import InputError
 from cloth.garment.cut import NO_PLACEMENT, BodyCut, TableCut, cut_girths, placement
 from cloth.garment.grid import FIXED, FREE, SLIDING, WEFT, Grid, build_grid
+from cloth.garment.pieces import (
+    band_circumference,
+    band_heights,
+    row_zones,
+    spring_materials,
+    tributary_boundaries,
+    with_pieces,
+)
 from cloth.garment.rows import row_heights
 from cloth.garment.state import State, grid_fabric
 from cloth.garment.worn import set_strains
@@ -189,6 +198,7 @@ def predeform(
     source: str = "case",
     grid: tuple[int, int] | None = None,
     pattern: BodyCut | TableCut | None = None,
+    fabrics: Mapping[str, Fabric] | None = None,
 ) -> State:
     """Build the initial state of a case: pattern, wrapped positions, constraints. Reads no file.
 
@@ -219,6 +229,9 @@ def predeform(
         grid = start_grid(body, garment.bottom, garment.top) if garment.auto else garment.grid
     n, m = grid
     cut_heights = row_heights(garment.bottom, garment.top, m, garment.row_grading)
+    pieces = garment.pieces
+    if pieces.bands:
+        cut_heights = band_heights(cut_heights, pieces, garment.bottom, garment.top)
     marks = {**body_record.get("landmarks", {}), **case.landmarks}
     if pattern is None:
         if garment.pattern is not None:
@@ -245,6 +258,10 @@ def predeform(
     else:
         rows = pattern.rows(cut_heights, source)
     circumference, rest_v, row_reduction = rows.circumference, rows.rest_v, rows.reduction
+    zone = row_zones(cut_heights, pieces, garment.bottom, garment.top)
+    if pieces.bands:
+        girth = hull_girth if rows.cut_girth is None else rows.cut_girth
+        circumference = band_circumference(circumference, girth, zone, pieces)
     moduli = garment.moduli
     around = garment.around
     worn = set_strains(garment, fabric, source)
@@ -262,6 +279,8 @@ def predeform(
         closed=True,
         **moduli,
     )
+    if pieces.any:
+        grid = _with_pieces(grid, case, fabric, fabrics or {}, cut_heights, zone)
     offset = garment.offset
     x = wrap(body, hulls, heights, n, offset)
     constraint = np.full(grid.n_nodes, FREE, dtype=np.int8)
@@ -298,6 +317,7 @@ def predeform(
         case=case,
         skin=case.skin,
         body=body_ref,
+        fabrics=dict(fabrics or {}) if pieces.any else {},
         moduli=moduli,
         attrs={
             "offset": offset,
@@ -311,6 +331,38 @@ def predeform(
             **{f"set_strain_{d}": s for d, s in worn.items()},
         },
     )
+
+
+def _with_pieces(
+    grid: Grid,
+    case: Case,
+    fabric: Fabric,
+    fabrics: Mapping[str, Fabric],
+    cut_heights: NDArray[np.float64],
+    zone: NDArray,
+) -> Grid:
+    """``grid`` with the fabrics of its bands, panels, layers and seams (`cloth.garment.pieces`)."""
+    garment = case.garment
+    pieces = garment.pieces
+    missing = [name for name in pieces.materials if name not in fabrics and name != case.material]
+    if missing:
+        raise ValueError(f"predeform needs the garment's fabrics {missing} (fabrics=...)")
+    seen = {name: grid_fabric(f, garment.around) for name, f in fabrics.items()}
+    seen[case.material] = grid_fabric(fabric, garment.around)
+    rest_v = grid.rest_uv[:: grid.n, 1]
+    boundary = tributary_boundaries(
+        cut_heights, rest_v, zone, pieces, garment.bottom, garment.top
+    )
+    materials, area = spring_materials(
+        grid, pieces, seen, case.material, cut_heights, zone, boundary
+    )
+    log.info(
+        "predeform: a garment of %d fabrics (%s), %d curves for its springs",
+        len(materials.names),
+        ", ".join(materials.names),
+        len(materials.curves),
+    )
+    return with_pieces(grid, materials, area)
 
 
 def _table_attr(pattern: BodyCut | TableCut) -> dict[str, str]:
@@ -334,6 +386,18 @@ def recut(state: State, row_reduction: NDArray[np.float64]) -> Grid:
         raise ValueError("recut needs a graded pattern (a state with row_reduction)")
     weft = grid.rest_length[grid.family_slices[WEFT]].reshape(grid.m, -1).sum(axis=1)
     circumference = weft * (1.0 - np.asarray(row_reduction)) / (1.0 - old)
+    recut = _plain_grid(state, circumference)
+    if grid.materials is None:
+        return recut
+    # a garment of several fabrics: each spring's area over the plain grid's is its fabric's
+    # thickness and its strip's share, neither of which the cut changes
+    ratio = grid.area / _plain_grid(state, weft).area
+    return with_pieces(recut, grid.materials, recut.area * ratio)
+
+
+def _plain_grid(state: State, circumference: NDArray[np.float64]) -> Grid:
+    """``state``'s grid of one fabric with the rows' rest ``circumference`` ((m,), m)."""
+    grid = state.grid
     return build_grid(
         grid.n,
         grid.m,

@@ -42,6 +42,9 @@ class State:
         these, never the case.
     attrs : dict
         Stage attributes (solver results, history, ...).
+    fabrics : dict of str to Fabric
+        The fabrics of the garment's bands, panels, layers and seams by the names the case
+        gives them (`cloth.garment.pieces`); empty for a garment of one fabric.
     """
 
     grid: Grid
@@ -55,6 +58,7 @@ class State:
     moduli: dict[str, float] = field(default_factory=dict)
     skin: Skin = field(default_factory=Skin)
     attrs: dict[str, Any] = field(default_factory=dict)
+    fabrics: dict[str, Fabric] = field(default_factory=dict)
 
     def with_positions(self, x: NDArray[np.float64], **changes: Any) -> State:
         return replace(self, x=x, **changes)

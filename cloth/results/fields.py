@@ -26,7 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from cloth.garment.grid import SLIDING, WARP, WEFT, Grid, node_area
+from cloth.garment.grid import SLIDING, WARP, WEFT, Grid, node_area, spring_thickness
 from cloth.garment.mechanics import SpringState
 from cloth.results.pressure import contact_reaction
 
@@ -140,7 +140,12 @@ def node_fields(
     pressure = np.where(held, magnitude / area, 0.0)
     stress_weft = node_average(grid, stress, WEFT)
     stress_warp = node_average(grid, stress, WARP)
-    tension_weft, tension_warp = stress_weft * thickness, stress_warp * thickness
+    if grid.materials is None:
+        tension_weft, tension_warp = stress_weft * thickness, stress_warp * thickness
+    else:  # each spring's tension in its own fabric's thickness
+        tension = stress * spring_thickness(grid)
+        tension_weft = node_average(grid, tension, WEFT)
+        tension_warp = node_average(grid, tension, WARP)
     kappa_weft = line_curvature(x, normal, grid, "weft")
     kappa_warp = line_curvature(x, normal, grid, "warp")
     # Laplace needs force per unit DEFORMED width: the rest width of a weft line's strip is

@@ -25,7 +25,8 @@ error estimates; `ROW_FIELDS` the diagnostics.
 from __future__ import annotations
 
 import json
-from dataclasses import dataclass
+from collections.abc import Mapping
+from dataclasses import dataclass, replace
 from typing import Protocol
 
 import numpy as np
@@ -141,11 +142,15 @@ def landmarks(
     fields: NodeFields,
     grid: Grid,
     reading: Reading | None = None,
+    half_widths: Mapping[str, float] | None = None,
 ) -> list[Landmark]:
     """The summary of the girth line at each landmark height (module docstring), bottom to
     top, read as ``reading`` says (default `Reading()`); a line beyond the garment (more than
-    half a row spacing past its edge rows) has none."""
+    half a row spacing past its edge rows) has none. ``half_widths``: line name -> the half-width
+    (m) of its band of the body where it is not the reading's (a garment's band,
+    `band_half_widths`)."""
     reading = reading or Reading()
+    half_widths = half_widths or {}
     rows_z = x.reshape(grid.m, grid.n, 3)[..., 2].mean(axis=1)
     pressure = np.where(fields.on_body.astype(bool), fields.pressure, 0.0)
     force = contact_force(fields)
@@ -156,7 +161,10 @@ def landmarks(
         line = girth_line(rows_z, height)
         if line is None:
             continue
-        weight = band_weights(x[:, 2], (grid.m, grid.n), height, reading).value
+        own = reading
+        if name in half_widths:
+            own = replace(reading, half_width=float(half_widths[name]))
+        weight = band_weights(x[:, 2], (grid.m, grid.n), height, own).value
         probes = probe_readings(
             x, force, fields.area, height, angles, reading.probe_diameter, reading
         )
@@ -196,10 +204,25 @@ def sensor_readings(
 
 def landmark_heights(state) -> dict[str, float]:
     """A state's girth lines, name -> height (m): its body's (the torso's size chart), updated
-    by the case's ``landmarks``, else the body's girth extrema (`girth_extrema`)."""
+    by the case's ``landmarks``, else the body's girth extrema (`girth_extrema`); and the lines
+    of the garment's bands (`cloth.case.pieces.Pieces.band_lines`, on the wearer: shifted as the
+    pattern is placed)."""
     heights = dict(state.body.get("landmarks", {}))
     heights.update(state.case.landmarks)
-    return heights or girth_extrema(state)
+    heights = heights or girth_extrema(state)
+    garment = state.case.garment
+    shift = float(state.attrs.get("cut_shift", 0.0) or 0.0)
+    lines = garment.pieces.band_lines(garment.bottom, garment.top)
+    heights.update({name: z + shift for name, z in lines.items()})
+    return heights
+
+
+def band_half_widths(state) -> dict[str, float]:
+    """Girth line name -> the half-width (m) of the body's band it is read over, where it is
+    not the case's ``girth_reading``: a garment's band is read over its own width at most, so
+    that its value is the band's, not the fabric's beside it."""
+    half = state.case.reading.half_width
+    return {b.name: min(half, 0.5 * b.width) for b in state.case.garment.pieces.bands}
 
 
 #: A girth extremum is a landmark when it stands out of the profile by this share of the

@@ -19,7 +19,7 @@ from cloth.case import Case
 from cloth.errors import EXIT_DIVERGED, InputError, StageFailed
 from cloth.files.body import body_from_config, body_from_record
 from cloth.files.levels import level_variables, mark_values
-from cloth.files.material import case_fabric
+from cloth.files.material import case_fabric, piece_fabrics
 from cloth.files.relaxed import relaxed_dataset
 from cloth.files.state import read_state, state_dataset
 from cloth.garment.cut import placement
@@ -71,7 +71,8 @@ def initial_state(case: Case | dict, base_dir: str | Path = ".", source: str = "
             if shift:
                 span = (garment.bottom + shift, garment.top + shift)
                 body, record = body_from_config(case.body.block, base_dir, span, garment.loop_point)
-        state = predeform(case, fabric, body, record, source, pattern=pattern)
+        fabrics = piece_fabrics(case, base_dir)
+        state = predeform(case, fabric, body, record, source, pattern=pattern, fabrics=fabrics)
         if pattern_record is not None:
             state.attrs["pattern_body"] = json.dumps(pattern_record)
         return state

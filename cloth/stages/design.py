@@ -148,7 +148,15 @@ def _start(state: State, body: Body, targets: list[Target], source: str) -> Stat
 def repredeform(state: State, case: Case, body: Body, source: str) -> State:
     """``case`` pre-deformed on ``state``'s body, wearing ``state``'s pattern where it wears
     one (cut again with ``case``'s garment), its record kept."""
-    fresh = predeform(case, state.fabric, body, state.body, source, pattern=state_cut(state, case))
+    fresh = predeform(
+        case,
+        state.fabric,
+        body,
+        state.body,
+        source,
+        pattern=state_cut(state, case),
+        fabrics=state.fabrics,
+    )
     if "pattern_body" in state.attrs:
         fresh.attrs["pattern_body"] = state.attrs["pattern_body"]
     return fresh

@@ -38,7 +38,7 @@ from cloth.garment.cut import BodyCut, TableCut
 from cloth.garment.predeform import predeform
 from cloth.garment.state import State
 from cloth.results.fields import Fields, node_fields
-from cloth.results.landmarks import Landmark, landmark_heights, landmarks
+from cloth.results.landmarks import Landmark, band_half_widths, landmark_heights, landmarks
 from cloth.results.richardson import estimate_levels
 from cloth.solvers import Diverged, continuation, relax
 from cloth.solvers.problem import Evaluation, Problem
@@ -105,7 +105,8 @@ def girth_marks(
     """The girth-line summaries of ``state``'s grid at the equilibrium ``final`` on ``body``,
     as result.nc reports them (`reported`)."""
     final, fields = reported_fields(state, final, body)
-    return tuple(landmarks(heights, final.x, fields, state.grid, state.case.reading))
+    reading, widths = state.case.reading, band_half_widths(state)
+    return tuple(landmarks(heights, final.x, fields, state.grid, reading, widths))
 
 
 def reported_fields(state: State, final: Evaluation, body: Body) -> tuple[Evaluation, Fields]:
@@ -157,7 +158,15 @@ def solve_level(
     from its own pre-deformation. ``pattern``: the garment's (`cloth.stages.cuts.state_cut`),
     where the case gives one."""
     start = time.perf_counter()
-    coarse = predeform(state.case, state.fabric, body, state.body, grid=grid, pattern=pattern)
+    coarse = predeform(
+        state.case,
+        state.fabric,
+        body,
+        state.body,
+        grid=grid,
+        pattern=pattern,
+        fabrics=state.fabrics,
+    )
     settings = replace(settings, progress=False)
     try:
         if below is not None and below.result is not None:
@@ -346,7 +355,15 @@ def refine(start: State, body: Body, settings: Settings, accuracy: float, cap: i
                 100 * accuracy,
             )
             break
-        state = predeform(start.case, start.fabric, body, start.body, grid=(n, m), pattern=pattern)
+        state = predeform(
+            start.case,
+            start.fabric,
+            body,
+            start.body,
+            grid=(n, m),
+            pattern=pattern,
+            fabrics=start.fabrics,
+        )
     state, result = runs[-1]
     heights = landmark_heights(state.with_positions(result.final.x))
     return Refined(state, result, _levels(runs, heights, body), met, worst)

@@ -28,7 +28,12 @@ from cloth.garment.grid import WEFT
 from cloth.garment.mechanics import spring_state
 from cloth.io import read_fields, read_netcdf, write_netcdf
 from cloth.results.fields import lab_range_variables, node_average, node_fields
-from cloth.results.landmarks import landmark_heights, landmarks, sensor_readings
+from cloth.results.landmarks import (
+    band_half_widths,
+    landmark_heights,
+    landmarks,
+    sensor_readings,
+)
 from cloth.results.regions import Region, regions
 from cloth.results.resolution import mesh_spacing, row_spacing
 from cloth.solvers.problem import Evaluation, Problem
@@ -59,7 +64,8 @@ def aggregate(relaxed_path: str | Path) -> tuple[xr.Dataset, list]:
         state.constraint,
     )
     reading = state.case.reading
-    marks = landmarks(landmark_heights(state), state.x, fields, state.grid, reading)
+    widths = band_half_widths(state)
+    marks = landmarks(landmark_heights(state), state.x, fields, state.grid, reading, widths)
     result = result_dataset(state, fields, marks, ds)
     result = result.assign(sensor_variables(reading, sensor_readings(reading, state.x, fields)))
     found = regions(

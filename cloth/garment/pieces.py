@@ -1,0 +1,505 @@
+"""The garment of several fabrics on its grid: which fabric each spring stands for (issue 69).
+
+A garment of bands, panels, layers and seams (`cloth.case.pieces`) stays one n x m grid; each
+weft and warp spring carries a curve made of the fabrics it stands for
+(`cloth.materials.composite`), evaluated for all springs at once (`cloth.materials.curveset`).
+
+**Rows and bands.** A row belongs to a band when its cut height lies within the band; a band
+that would hold no row at a coarse grid has the nearest interior row moved to its middle
+(`band_heights`), so every band holds a row at every grid. A band's rows are cut with its own
+reduction. Between a body row and a band row the boundary of their tributary strips is the
+band's edge (mapped to the rest coordinate v), not their midpoint, so a band's rows stand for
+exactly its width of fabric; the warp spring between them is the two fabrics in series, split at
+that edge.
+
+**Around.** A point of a row at rest coordinate u is at the share s = u / W of its rest
+circumference W from the centre back (where the wrap starts, `cloth.garment.predeform`); its
+angle from the centre front is 360 s - 180 degrees. A weft spring spans [i, i + 1] / n of the
+row: the panels' and seam strips' pieces of that span in series (each piece the panel's fabric,
+or the seam: the two fabrics in parallel over the allowance, or the seam strip's curve), with
+any layer over a piece in parallel, weighted by the share of the row's tributary strip it
+covers. A warp spring stands for the tributary width around its column: its pieces in parallel,
+and along it, in series, the parts in a band, in a layer's heights or outside them.
+
+A spring's area is its tributary width times the thickness of the fabric at its middle (its
+own), and its curve the composite's tension over that thickness, so a spring of one fabric
+reports that fabric's stress exactly.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, replace
+
+import numpy as np
+from numpy.typing import NDArray
+
+from cloth.case.pieces import Pieces
+from cloth.errors import InputError
+from cloth.garment.grid import WARP, WEFT, Grid
+from cloth.materials.composite import parallel, scaled, series
+from cloth.materials.curves import Fabric, StressStrainCurve
+from cloth.materials.curveset import CurveSet
+
+#: The name of the case's own fabric among a garment's fabrics.
+BODY = "body"
+#: Shares (1) are rounded to this before composites are compared, so that springs of one
+#: recipe share one curve.
+ROUND = 12
+
+
+@dataclass(frozen=True, eq=False)
+class SpringMaterials:
+    """The fabrics of a garment's weft and warp springs (module docstring).
+
+    Attributes
+    ----------
+    curves : tuple of StressStrainCurve
+        The composite curves (Pa over each spring's own thickness).
+    index : (W,) int
+        The curve of each weft and warp spring (W of them, in the grid's order).
+    fabric : (W,) int
+        The fabric at each spring's middle, an index into ``names``.
+    node_fabric : (N,) int
+        The fabric at each node, an index into ``names`` (a band's, else the panel's).
+    names : tuple of str
+        The fabrics: the case's material first, then the pieces' in order of mention.
+    seams : (J,) float, 1
+        Where the seams are, as shares of the rest circumference from the centre back.
+    fabric_thickness : tuple of float, m
+        Each fabric's thickness, like ``names``.
+    split : (m - 1,) float, 1
+        The share of the cell between rows j and j + 1 that row j stands for (0.5 but beside
+        a band's edge): the node areas follow it (`cloth.garment.grid.node_area`).
+    """
+
+    curves: tuple[StressStrainCurve, ...]
+    index: NDArray[np.intp]
+    fabric: NDArray[np.int16]
+    node_fabric: NDArray[np.int16]
+    names: tuple[str, ...]
+    seams: NDArray[np.float64]
+    fabric_thickness: tuple[float, ...]
+    split: NDArray[np.float64]
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "curve_set", CurveSet(self.curves, self.index))
+
+    @property
+    def thickness(self) -> NDArray[np.float64]:
+        """(W,) float, m: the thickness of each weft and warp spring's own fabric."""
+        return np.asarray(self.fabric_thickness)[self.fabric]
+
+
+def share_of(angle_deg: float) -> float:
+    """The share of the circumference (1, in [0, 1)) from the centre back at ``angle_deg``
+    from the centre front (module docstring)."""
+    return float(np.mod((angle_deg + 180.0) / 360.0, 1.0))
+
+
+def band_heights(
+    heights: NDArray[np.float64], pieces: Pieces, bottom: float, top: float
+) -> NDArray[np.float64]:
+    """The rows' cut heights ((m,), m) with a row moved to the middle of every band that holds
+    none (module docstring); the edge rows stay."""
+    out = np.array(heights, dtype=float)
+    for band in pieces.bands:
+        low, high = band.span(bottom, top)
+        if np.any((out >= low - 1e-12) & (out <= high + 1e-12)):
+            continue
+        middle = 0.5 * (low + high)
+        interior = np.arange(1, len(out) - 1)
+        if interior.size == 0:
+            continue
+        j = int(interior[np.argmin(np.abs(out[interior] - middle))])
+        out[j] = middle
+        if not np.all(np.diff(out) > 0):
+            raise InputError(
+                f"band {band.name!r} is too narrow for the grid's {len(out)} rows to hold one; "
+                "give more rows (grid) or a wider band",
+                field="garment.grid",
+            )
+    return out
+
+
+def row_zones(heights: NDArray[np.float64], pieces: Pieces, bottom: float, top: float) -> NDArray:
+    """(m,) int: the band each row belongs to (its index), -1 outside every band."""
+    zone = np.full(len(heights), -1)
+    for k, band in enumerate(pieces.bands):
+        low, high = band.span(bottom, top)
+        zone[(heights >= low - 1e-12) & (heights <= high + 1e-12)] = k
+    return zone
+
+
+def band_circumference(
+    circumference: NDArray[np.float64],
+    girth: NDArray[np.float64],
+    zone: NDArray,
+    pieces: Pieces,
+) -> NDArray[np.float64]:
+    """The rows' rest circumferences ((m,), m) with each band's rows cut as the band is: its
+    reduction of the cut body's ``girth`` ((m,), m), or its circumference."""
+    out = np.array(circumference, dtype=float)
+    for k, band in enumerate(pieces.bands):
+        rows = zone == k
+        if band.circumference is not None:
+            out[rows] = band.circumference
+        else:
+            out[rows] = (1.0 - float(band.reduction)) * girth[rows]
+    return out
+
+
+class _Recipes:
+    """Composite curves by recipe, each built once (springs of one recipe share a curve)."""
+
+    def __init__(self) -> None:
+        self.curves: list[StressStrainCurve] = []
+        self.keys: dict[tuple, int] = {}
+
+    def add(self, key: tuple, build) -> int:
+        k = self.keys.get(key)
+        if k is None:
+            k = self.keys[key] = len(self.curves)
+            self.curves.append(build())
+        return k
+
+
+@dataclass(frozen=True)
+class _Garment:
+    """What the springs' recipes are read from (module docstring)."""
+
+    pieces: Pieces
+    fabrics: Mapping[str, Fabric]  # name -> fabric as the grid sees it (weft around)
+    body: str  # the base material where there are no panels
+
+    def thickness(self, name: str) -> float:
+        return self.fabrics[name].thickness
+
+    def curve(self, name: str, family: int) -> StressStrainCurve:
+        fabric = self.fabrics[name]
+        return fabric.weft if family == WEFT else fabric.warp
+
+
+def _around_pieces(
+    pieces: Pieces, circumference: float, body: str
+) -> list[tuple[float, float, tuple[tuple[str, float], ...]]]:
+    """The row's pieces around, from the centre back: (start share, end share, stack), a stack
+    being (material, plies) pairs in parallel: the panels' fabrics, and the seam strips
+    (the two fabrics in parallel, or the seam strip's material)."""
+    if not pieces.panels:
+        return [(0.0, 1.0, ((body, 1.0),))]
+    cuts = []
+    for panel in pieces.panels:
+        start = share_of(panel.from_deg)
+        cuts.append((start, start + panel.share, panel.material))
+    cuts.sort()
+    half = 0.5 * pieces.seams.width / circumference
+    out = []
+    for k, (start, end, material) in enumerate(cuts):
+        before = cuts[k - 1][2]
+        after = cuts[(k + 1) % len(cuts)][2]
+        if end - start < 2 * half:
+            raise InputError(
+                f"the seam allowance ({pieces.seams.allowance_mm:g} mm) leaves nothing of the "
+                f"panel of {material} ({(end - start) * circumference * 1e3:.4g} mm at its "
+                "narrowest row); give a smaller allowance_mm",
+                field="garment.seams.allowance_mm",
+            )
+        seam_in = _seam_stack(pieces, before, material)
+        seam_out = _seam_stack(pieces, material, after)
+        if half > 0:
+            out.append((start, start + half, seam_in))
+        out.append((start + half, end - half, ((material, 1.0),)))
+        if half > 0:
+            out.append((end - half, end, seam_out))
+    # laid from the centre back: shift by whole turns into [0, 1) and split at 1
+    laid = []
+    for start, end, stack in out:
+        offset = np.floor(start)
+        start, end = start - offset, end - offset
+        if end > 1.0:
+            laid += [(start, 1.0, stack), (0.0, end - 1.0, stack)]
+        else:
+            laid.append((start, end, stack))
+    laid.sort(key=lambda piece: piece[0])
+    return [p for p in laid if p[1] - p[0] > 1e-15]
+
+
+def _seam_stack(pieces: Pieces, a: str, b: str) -> tuple[tuple[str, float], ...]:
+    if pieces.seams.material is not None:
+        return ((pieces.seams.material, 1.0),)
+    return ((a, 1.0), (b, 1.0))
+
+
+def _overlaps(
+    low: float, high: float, spans: Sequence[tuple[float, float, object]]
+) -> list[tuple[float, object]]:
+    """The pieces of [low, high] (shares of a turn, high - low <= 1, low in [0, 1)) that each
+    span covers, as (length share of [low, high], payload)."""
+    out = []
+    length = high - low
+    for shift in (0.0, 1.0):
+        for start, end, payload in spans:
+            a, b = max(low, start + shift), min(high, end + shift)
+            if b > a:
+                out.append(((b - a) / length, payload))
+    return out
+
+
+def _layer_share(layer, low: float, high: float) -> float:
+    """The share of [low, high] (shares of a turn) that ``layer``'s sector covers."""
+    start = share_of(layer.from_deg)
+    end = start + (layer.to_deg - layer.from_deg) / 360.0
+    return sum(w for w, _ in _overlaps(low, high, [(start, end, None), (start - 1, end - 1, None)]))
+
+
+def _stack_curve(
+    garment: _Garment, stack: tuple[tuple[str, float], ...], family: int, own: float
+) -> StressStrainCurve:
+    """The curve of materials side by side (``stack``: (material, plies x share) pairs), over
+    the thickness ``own`` (m)."""
+    parts = [
+        (plies * garment.thickness(name) / own, garment.curve(name, family))
+        for name, plies in stack
+    ]
+    if len(parts) == 1:
+        return scaled(parts[0][1], parts[0][0])
+    return parallel(parts)
+
+
+def _key(stack: tuple[tuple[str, float], ...]) -> tuple:
+    return tuple((name, round(w, ROUND)) for name, w in stack if w > 0)
+
+
+def spring_materials(
+    grid: Grid,
+    pieces: Pieces,
+    fabrics: Mapping[str, Fabric],
+    body: str,
+    heights: NDArray[np.float64],
+    zone: NDArray,
+    boundary: NDArray[np.float64],
+) -> tuple[SpringMaterials, NDArray[np.float64]]:
+    """The springs' fabrics (module docstring) and their areas ((S,), m2) on ``grid``.
+
+    Parameters
+    ----------
+    grid : Grid
+        The garment's grid, built with the case's fabric (``body``) for every spring.
+    pieces : Pieces
+    fabrics : mapping of str to Fabric
+        Every fabric by the name the case gives it (``body`` among them), as the grid sees it.
+    body : str
+        The case's material.
+    heights : (m,) float, m
+        The rows' cut heights.
+    zone : (m,) int
+        Each row's band (`row_zones`), -1 outside every band.
+    boundary : (m + 1,) float, m
+        The rows' tributary strips in rest v: row j stands for [boundary[j], boundary[j+1]].
+    """
+    n, m = grid.n, grid.m
+    names = tuple(dict.fromkeys([body, *pieces.materials]))
+    number = {name: k for k, name in enumerate(names)}
+    garment = _Garment(pieces, fabrics, body)
+    v = grid.rest_uv[::n, 1]
+    width = grid.rest_length[grid.family_slices[WEFT]].reshape(m, n).sum(axis=1)
+    layers_v = [
+        (np.interp(lay.bottom, heights, v), np.interp(lay.top, heights, v), lay)
+        for lay in pieces.layers
+    ]
+    recipes = _Recipes()
+    thick = grid.thickness
+    area = np.array(grid.area)
+    weft = grid.family_slices[WEFT]
+    warp = grid.family_slices[WARP]
+    index = np.empty(weft.stop - weft.start + warp.stop - warp.start, dtype=np.intp)
+    fabric = np.empty(index.size, dtype=np.int16)
+    node_fabric = np.empty(n * m, dtype=np.int16)
+    edges = np.arange(n + 1) / n
+
+    def row_pieces(j: int):
+        if zone[j] >= 0:
+            band = pieces.bands[zone[j]]
+            return [(0.0, 1.0, ((band.material, float(band.layers)),))]
+        return _around_pieces(pieces, float(width[j]), body)
+
+    def layer_weights(j_low: float, j_high: float) -> list[tuple[float, object]]:
+        """(share of the v-strip [j_low, j_high] covered, layer) for each layer over it."""
+        out = []
+        for lo, hi, layer in layers_v:
+            share = max(0.0, min(hi, j_high) - max(lo, j_low)) / max(j_high - j_low, 1e-300)
+            if share > 0:
+                out.append((share, layer))
+        return out
+
+    # weft springs: row j, column i spans shares [i, i + 1] / n
+    for j in range(m):
+        around = row_pieces(j)
+        strip = dict(
+            (id(layer), w) for w, layer in layer_weights(boundary[j], boundary[j + 1])
+        ) if zone[j] < 0 else {}
+        laid = _with_layers(around, pieces.layers) if strip else [
+            (a, b, (st, ())) for a, b, st in around
+        ]
+        tributary = boundary[j + 1] - boundary[j]
+        for i in range(n):
+            series_parts = []
+            for share, (stack, over) in _overlaps(edges[i], edges[i + 1], laid):
+                extra = [
+                    (layer.material, strip[id(layer)] * layer.layers)
+                    for layer in over
+                    if strip.get(id(layer), 0.0) > 0
+                ]
+                series_parts.append((share, (*stack, *extra)))
+            own_name = _at(around, 0.5 * (edges[i] + edges[i + 1]))
+            own = garment.thickness(own_name)
+            key = (WEFT, own_name, tuple((round(f, ROUND), _key(s)) for f, s in series_parts))
+            k = j * n + i
+            index[k] = recipes.add(
+                key,
+                lambda sp=series_parts, own=own: series(
+                    [(f, _stack_curve(garment, s, WEFT, own)) for f, s in sp]
+                ),
+            )
+            fabric[k] = number[own_name]
+            area[weft.start + k] = tributary * own
+            node_fabric[k] = number[_at(around, edges[i])]
+    # warp springs: column i between rows j and j + 1, its tributary [i - 1/2, i + 1/2] / n
+    offset = weft.stop - weft.start
+    for j in range(m - 1):
+        cut = boundary[j + 1]  # where row j's strip meets row j + 1's
+        spans = [(v[j], cut, j), (cut, v[j + 1], j + 1)]
+        for i in range(n):
+            low, high = (i - 0.5) / n, (i + 0.5) / n
+            if low < 0:
+                low, high = low + 1.0, high + 1.0
+            series_parts = []
+            own_name = body
+            for a, b, row in spans:
+                if b - a <= 0:
+                    continue
+                around = row_pieces(row)
+                pieces_v = _split_layers(a, b, layers_v) if zone[row] < 0 else [(a, b, [])]
+                for pa, pb, over in pieces_v:
+                    stack = [
+                        (name, plies * share)
+                        for share, st in _overlaps(low, high, around)
+                        for name, plies in st
+                    ]
+                    for layer in over:
+                        cover = _layer_share(layer, low, high)
+                        if cover > 0:
+                            stack.append((layer.material, cover * layer.layers))
+                    series_parts.append(((pb - pa) / (v[j + 1] - v[j]), tuple(stack)))
+                if a <= 0.5 * (v[j] + v[j + 1]) <= b:
+                    own_name = _at(around, i / n)
+            own = garment.thickness(own_name)
+            key = (WARP, own_name, tuple((round(f, ROUND), _key(s)) for f, s in series_parts))
+            k = offset + j * n + i
+            index[k] = recipes.add(
+                key,
+                lambda sp=series_parts, own=own: series(
+                    [(f, _stack_curve(garment, s, WARP, own)) for f, s in sp]
+                ),
+            )
+            fabric[k] = number[own_name]
+            area[warp.start + j * n + i] = grid.area[warp.start + j * n + i] / thick * own
+    seams = np.array(sorted(share_of(p.from_deg) for p in pieces.panels)) if pieces.panels else None
+    split = (boundary[1:-1] - v[:-1]) / np.diff(v)
+    materials = SpringMaterials(
+        tuple(recipes.curves),
+        index,
+        fabric,
+        node_fabric,
+        names,
+        np.zeros(0) if seams is None else seams,
+        tuple(garment.thickness(name) for name in names),
+        split,
+    )
+    return materials, area
+
+
+def _at(around, share: float) -> str:
+    """The material of the row's piece at ``share``: a panel's, a seam's first, a band's."""
+    share = float(np.mod(share, 1.0))
+    for start, end, stack in around:
+        if start <= share < end or (end == 1.0 and share >= start):
+            return stack[0][0]
+    return around[-1][2][0][0]
+
+
+def _with_layers(around, layers) -> list[tuple[float, float, tuple]]:
+    """The row's pieces around (`_around_pieces`) split at the layers' sector edges: (start,
+    end, (stack, the layers whose sector covers it))."""
+    sectors = []
+    for layer in layers:
+        start = share_of(layer.from_deg)
+        end = start + (layer.to_deg - layer.from_deg) / 360.0
+        sectors.append((start, end, layer))
+    cuts = {0.0, 1.0}
+    for a, b, _ in around:
+        cuts |= {a, b}
+    for a, b, _ in sectors:
+        cuts |= {float(np.mod(a, 1.0)), float(np.mod(b, 1.0))}
+    cuts = sorted(c for c in cuts if 0.0 <= c <= 1.0)
+    out = []
+    for a, b in zip(cuts, cuts[1:], strict=False):
+        if b - a <= 1e-15:
+            continue
+        mid = 0.5 * (a + b)
+        stack = next(st for s0, s1, st in around if s0 <= mid < s1)
+        over = tuple(
+            layer for s0, s1, layer in sectors if s0 <= mid < s1 or s0 <= mid + 1.0 < s1
+        )
+        out.append((a, b, (stack, over)))
+    return out
+
+
+def _split_layers(a: float, b: float, layers_v) -> list[tuple[float, float, list]]:
+    """[a, b] in rest v split at the layers' edges: (start, end, the layers over it)."""
+    cuts = sorted({a, b, *[x for lo, hi, _ in layers_v for x in (lo, hi) if a < x < b]})
+    out = []
+    for lo, hi in zip(cuts, cuts[1:], strict=False):
+        mid = 0.5 * (lo + hi)
+        out.append((lo, hi, [lay for l0, l1, lay in layers_v if l0 <= mid <= l1]))
+    return out
+
+
+def tributary_boundaries(
+    heights: NDArray[np.float64], rest_v: NDArray[np.float64], zone: NDArray, pieces: Pieces,
+    bottom: float, top: float,
+) -> NDArray[np.float64]:
+    """(m + 1,) float, m: the rows' tributary strips in rest v (module docstring): midpoints,
+    except between rows of different zones, where the band's edge is."""
+    mid = 0.5 * (rest_v[:-1] + rest_v[1:])
+    for j in range(len(heights) - 1):
+        if zone[j] == zone[j + 1]:
+            continue
+        band = pieces.bands[zone[j] if zone[j] >= 0 else zone[j + 1]]
+        low, high = band.span(bottom, top)
+        edge = high if zone[j] >= 0 else low  # the band below ends, or the band above starts
+        if zone[j] >= 0 and zone[j + 1] >= 0:
+            edge = pieces.bands[zone[j]].span(bottom, top)[1]
+        mid[j] = np.interp(edge, heights, rest_v)
+    return np.concatenate(([rest_v[0]], mid, [rest_v[-1]]))
+
+
+def with_pieces(grid: Grid, materials: SpringMaterials, area: NDArray[np.float64]) -> Grid:
+    """``grid`` with its springs' fabrics (`spring_materials`) and their areas."""
+    area = np.asarray(area, dtype=float)
+    area.setflags(write=False)
+    return replace(grid, area=area, materials=materials)
+
+
+__all__ = [
+    "BODY",
+    "SpringMaterials",
+    "band_circumference",
+    "band_heights",
+    "row_zones",
+    "share_of",
+    "spring_materials",
+    "tributary_boundaries",
+    "with_pieces",
+]
