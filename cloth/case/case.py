@@ -102,7 +102,7 @@ class GarmentSpec:
     accuracy: float = 0.01
     max_nodes: int = 100_000
     #: Bands, panels, layers and seams (`cloth.case.pieces`); none: one fabric.
-    pieces: Pieces = Pieces()
+    pieces: Pieces = field(default_factory=Pieces)
 
     @property
     def nodes(self) -> int:

@@ -26,7 +26,7 @@ garment, raising `InputError` naming the key (``garment.bands[0].width``).
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 from cloth.errors import InputError
@@ -46,7 +46,7 @@ ANGLE_TOLERANCE = 1e-9
 class Band:
     """A band: rows of ``material`` of ``width`` (m) at ``at`` ('top', 'bottom' or the height
     of its middle, m), cut with its own ``reduction`` (1) or ``circumference`` (m), of
-    ``layers`` plies (1, or 2 for a folded welt), with its own skin ``friction`` where given."""
+    ``layers`` plies (1, or 2 for a folded welt)."""
 
     name: str
     material: str
@@ -55,7 +55,6 @@ class Band:
     reduction: float | None = None
     circumference: float | None = None
     layers: int = 1
-    friction: float | None = None
 
     def span(self, bottom: float, top: float) -> tuple[float, float]:
         """The band's lower and upper edge (m) on a garment from ``bottom`` to ``top``."""
@@ -130,7 +129,7 @@ class Pieces:
     bands: tuple[Band, ...] = ()
     panels: tuple[Panel, ...] = ()
     layers: tuple[Layer, ...] = ()
-    seams: Seams = Seams()
+    seams: Seams = field(default_factory=Seams)
 
     @property
     def any(self) -> bool:
@@ -245,9 +244,7 @@ def _band(block: Mapping[str, Any], k: int) -> Band:
     key = f"garment.bands[{k}]"
     at = block.get("at", "top")
     if isinstance(at, str) and at not in BAND_EDGES:
-        raise InputError(
-            f"at must be top, bottom or a height in m, got {at!r}", field=f"{key}.at"
-        )
+        raise InputError(f"at must be top, bottom or a height in m, got {at!r}", field=f"{key}.at")
     reduction, circumference = block.get("reduction"), block.get("circumference")
     if (reduction is None) == (circumference is None):
         raise InputError(
@@ -265,7 +262,6 @@ def _band(block: Mapping[str, Any], k: int) -> Band:
         reduction=None if reduction is None else float(reduction),
         circumference=None if circumference is None else float(circumference),
         layers=int(block.get("layers", 1)),
-        friction=None if block.get("friction") is None else float(block["friction"]),
     )
 
 

@@ -91,6 +91,31 @@ def pieces_variables(grid: Grid, fabrics: Mapping[str, Fabric]) -> dict[str, xr.
     return out
 
 
+def seam_variables(grid: Grid, x: np.ndarray) -> dict[str, xr.Variable]:
+    """Where each seam sits on the body at positions ``x`` ((N, 3), m): ``seam_x``, ``seam_y``,
+    ``seam_z`` ((seam, row), m), each row's point at the seam's share of its rest
+    circumference, linear between the two nodes around it; none without seams."""
+    materials = grid.materials
+    if materials is None or materials.seams.size == 0:
+        return {}
+    pts = x.reshape(grid.m, grid.n, 3)
+    place = materials.seams * grid.n
+    below = np.floor(place).astype(int) % grid.n
+    t = (place - np.floor(place))[:, None, None]
+    at = (1 - t) * pts[:, below].transpose(1, 0, 2) + t * pts[:, (below + 1) % grid.n].transpose(
+        1, 0, 2
+    )  # (seam, row, 3)
+    angle = np.mod(360.0 * materials.seams - 180.0 + 180.0, 360.0) - 180.0
+    return {
+        f"seam_{axis}": variable(("seam", "row"), at[..., k], "m", f"seam {axis} position")
+        for k, axis in enumerate("xyz")
+    } | {
+        "seam_angle": variable(
+            "seam", angle, "degree", "seam's share of the cut circumference from the centre front"
+        )
+    }
+
+
 def pieces_attrs(grid: Grid, fabrics: Mapping[str, Fabric]) -> dict[str, str]:
     """The attributes of ``grid``'s fabrics (module docstring); none for one fabric."""
     materials = grid.materials
@@ -157,4 +182,10 @@ def pieces_from_dataset(ds: xr.Dataset) -> tuple[SpringMaterials | None, dict[st
     return materials, fabrics
 
 
-__all__ = ["flag_words", "pieces_attrs", "pieces_from_dataset", "pieces_variables"]
+__all__ = [
+    "flag_words",
+    "pieces_attrs",
+    "pieces_from_dataset",
+    "pieces_variables",
+    "seam_variables",
+]

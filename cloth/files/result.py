@@ -34,6 +34,7 @@ from cloth.case.judge import Judge
 from cloth.case.reading import Reading
 from cloth.files.levels import estimate_columns
 from cloth.files.material import fabric_variables
+from cloth.files.pieces import pieces_attrs, pieces_variables, seam_variables
 from cloth.files.state import CONSTRAINT_MEANINGS, CONTACT_MEANINGS
 from cloth.garment.grid import WEFT
 from cloth.garment.state import State
@@ -167,6 +168,8 @@ def result_dataset(
         if name in relaxed:
             variables[name] = relaxed[name].variable
     variables.update(fabric_variables(state.fabric))
+    variables.update(pieces_variables(grid, state.fabrics))
+    variables.update(seam_variables(grid, state.x))
     coords = {
         "row": relaxed["row"].variable,
         "col": relaxed["col"].variable,
@@ -177,6 +180,7 @@ def result_dataset(
     keep = ("case", "body", "provenance", "fabric_name", "around", "n", "m", "closed")
     attrs.update({k: relaxed.attrs[k] for k in keep if k in relaxed.attrs})
     attrs.update({k: v for k, v in relaxed.attrs.items() if k.startswith(("solver_", "grid_"))})
+    attrs.update(pieces_attrs(grid, state.fabrics))
     attrs.update(
         {
             "cloth_kind": KIND,

@@ -28,6 +28,7 @@ reports that fabric's stress exactly.
 
 from __future__ import annotations
 
+import itertools
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
 
@@ -336,12 +337,16 @@ def spring_materials(
     # weft springs: row j, column i spans shares [i, i + 1] / n
     for j in range(m):
         around = row_pieces(j)
-        strip = dict(
-            (id(layer), w) for w, layer in layer_weights(boundary[j], boundary[j + 1])
-        ) if zone[j] < 0 else {}
-        laid = _with_layers(around, pieces.layers) if strip else [
-            (a, b, (st, ())) for a, b, st in around
-        ]
+        strip = (
+            dict((id(layer), w) for w, layer in layer_weights(boundary[j], boundary[j + 1]))
+            if zone[j] < 0
+            else {}
+        )
+        laid = (
+            _with_layers(around, pieces.layers)
+            if strip
+            else [(a, b, (st, ())) for a, b, st in around]
+        )
         tributary = boundary[j + 1] - boundary[j]
         for i in range(n):
             series_parts = []
@@ -444,14 +449,12 @@ def _with_layers(around, layers) -> list[tuple[float, float, tuple]]:
         cuts |= {float(np.mod(a, 1.0)), float(np.mod(b, 1.0))}
     cuts = sorted(c for c in cuts if 0.0 <= c <= 1.0)
     out = []
-    for a, b in zip(cuts, cuts[1:], strict=False):
+    for a, b in itertools.pairwise(cuts):
         if b - a <= 1e-15:
             continue
         mid = 0.5 * (a + b)
         stack = next(st for s0, s1, st in around if s0 <= mid < s1)
-        over = tuple(
-            layer for s0, s1, layer in sectors if s0 <= mid < s1 or s0 <= mid + 1.0 < s1
-        )
+        over = tuple(layer for s0, s1, layer in sectors if s0 <= mid < s1 or s0 <= mid + 1.0 < s1)
         out.append((a, b, (stack, over)))
     return out
 
@@ -460,15 +463,19 @@ def _split_layers(a: float, b: float, layers_v) -> list[tuple[float, float, list
     """[a, b] in rest v split at the layers' edges: (start, end, the layers over it)."""
     cuts = sorted({a, b, *[x for lo, hi, _ in layers_v for x in (lo, hi) if a < x < b]})
     out = []
-    for lo, hi in zip(cuts, cuts[1:], strict=False):
+    for lo, hi in itertools.pairwise(cuts):
         mid = 0.5 * (lo + hi)
         out.append((lo, hi, [lay for l0, l1, lay in layers_v if l0 <= mid <= l1]))
     return out
 
 
 def tributary_boundaries(
-    heights: NDArray[np.float64], rest_v: NDArray[np.float64], zone: NDArray, pieces: Pieces,
-    bottom: float, top: float,
+    heights: NDArray[np.float64],
+    rest_v: NDArray[np.float64],
+    zone: NDArray,
+    pieces: Pieces,
+    bottom: float,
+    top: float,
 ) -> NDArray[np.float64]:
     """(m + 1,) float, m: the rows' tributary strips in rest v (module docstring): midpoints,
     except between rows of different zones, where the band's edge is."""

@@ -350,9 +350,7 @@ def _with_pieces(
     seen = {name: grid_fabric(f, garment.around) for name, f in fabrics.items()}
     seen[case.material] = grid_fabric(fabric, garment.around)
     rest_v = grid.rest_uv[:: grid.n, 1]
-    boundary = tributary_boundaries(
-        cut_heights, rest_v, zone, pieces, garment.bottom, garment.top
-    )
+    boundary = tributary_boundaries(cut_heights, rest_v, zone, pieces, garment.bottom, garment.top)
     materials, area = spring_materials(
         grid, pieces, seen, case.material, cut_heights, zone, boundary
     )

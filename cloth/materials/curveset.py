@@ -48,7 +48,7 @@ class CurveSet:
         )  # increasing: knots of curve k lie in [k SPAN, k SPAN + SPAN / 2)
         self._keys = keys
         self._last = np.repeat(start + counts - 2, counts)
-        self._x = keys - np.repeat(np.arange(len(self.curves)) * SPAN, counts)
+        self._x = np.concatenate([c.knot_strain for c in self.curves])
         self._y = np.concatenate([c.knot_stress for c in self.curves])
         slopes = [np.append(c.slopes, c.slopes[-1]) for c in self.curves]
         self._slope = np.concatenate(slopes)

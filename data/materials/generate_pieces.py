@@ -52,8 +52,10 @@ def export_lines(name: str, seed: int = SEED) -> list[str]:
         up = np.linspace(0.0, MAX_ELONGATION, POINTS_PER_BRANCH)
         f_up = stiffer * (a * up + b * np.expm1(c * up))
         down = up[::-1]
-        f_down = (0.85 + 0.15 * (down / MAX_ELONGATION) ** 6) * stiffer * (
-            a * down + b * np.expm1(c * down)
+        f_down = (
+            (0.85 + 0.15 * (down / MAX_ELONGATION) ** 6)
+            * stiffer
+            * (a * down + b * np.expm1(c * down))
         )
         for branch, eps, force in (("load", up, f_up), ("unload", down, f_down)):
             noisy = np.clip(force + rng.normal(scale=NOISE_N, size=force.size), 0, None)
