@@ -35,6 +35,7 @@ from numpy.typing import NDArray
 from cloth.figures.drawing import body_band, garment_positions
 from cloth.figures.plots import save_figure
 from cloth.figures.ranges import field_range
+from cloth.figures.seams import body_edges, body_seams
 
 log = logging.getLogger(__name__)
 
@@ -168,6 +169,10 @@ def draw_view(
     garment.set_in_layout(False)
     ax.add_collection3d(garment)
     right = _right(azimuth)
+    for line in [*body_seams(ds), *body_edges(ds)]:
+        facing = (line - points.reshape(-1, 3).mean(axis=0)) @ eye > 0
+        seen = [np.where(facing, line[:, c], np.nan) for c in range(3)]
+        ax.plot(*seen, color="white", lw=0.8, ls="--", zorder=3, clip_on=False)
     if girths:
         for name, row, index in _girth_rows(ds):
             line = points[row]

@@ -9,6 +9,7 @@ from pathlib import Path
 import matplotlib
 
 from cloth.bodies import MeshBody
+from cloth.figures.seams import EDGE_STYLE, SEAM_STYLE, flat_edges, flat_seams
 from cloth.results.landmarks import along, girth_line
 
 matplotlib.use("Agg")
@@ -234,6 +235,10 @@ def _flat_map(ds, name, path, scale=1.0, label=None, vmin=None, vmax=None, level
         if usable:
             lines = ax.contour(u, v, values, levels=usable, colors="white", linewidths=0.8)
             ax.clabel(lines, fmt="%g", fontsize=7)
+    for seam_u, seam_v in flat_seams(ds):
+        ax.plot(seam_u, seam_v, **SEAM_STYLE)
+    for edge in flat_edges(ds):
+        ax.axhline(edge, **EDGE_STYLE)
     var = ds[name]
     fig.colorbar(mesh, ax=ax, label=label or f"{var.attrs['long_name']} [{var.attrs['units']}]")
     ax.set_xlabel("u, around (weft) [m]")

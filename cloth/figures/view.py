@@ -20,6 +20,7 @@ import xarray as xr
 from numpy.typing import NDArray
 
 from cloth.errors import InputError
+from cloth.figures.seams import body_edges, body_seams
 from cloth.io import atomic_output
 
 log = logging.getLogger(__name__)
@@ -169,6 +170,19 @@ def view_figure(ds: xr.Dataset, body: tuple[NDArray, NDArray] | None = None):
                     [garment],
                 ],
             }
+        )
+    for k, line in enumerate([*body_seams(ds), *body_edges(ds)]):
+        traces.append(
+            go.Scatter3d(
+                x=line[:, 0],
+                y=line[:, 1],
+                z=line[:, 2],
+                mode="lines",
+                line={"color": "white", "width": 3, "dash": "dash"},
+                name="seam" if k < len(body_seams(ds)) else "band edge",
+                hoverinfo="name",
+                showlegend=False,
+            )
         )
     fig = go.Figure(traces)
     status = "" if int(ds.attrs.get("converged", 1)) else " (NOT CONVERGED)"
