@@ -33,8 +33,14 @@ PIECES = {
     ],
     "seams": {"allowance_mm": 6},
     "bands": [
-        {"name": "topband", "material": "elastic25", "at": "top", "width": 0.025, "reduction": 0.1},
-        {"name": "legband", "material": "elastic25", "at": "bottom", "width": 0.02, "reduction": 0.1},
+        {"name": "topband", "material": "elastic25", "width": 0.025, "reduction": 0.1},
+        {
+            "name": "legband",
+            "material": "elastic25",
+            "at": "bottom",
+            "width": 0.02,
+            "reduction": 0.1,
+        },
     ],
 }
 
@@ -95,9 +101,9 @@ def main() -> None:
     header = ["garment", "predeform s", "relax s (median)", "converged"]
     body = (
         f"Torso M, {grid[0]} x {grid[1]}, reduction 0.20, Newton (default continuation), "
-        f"{args.repeat} runs each alternating, medians ({platform.processor() or platform.machine()},"
-        f" {os.cpu_count()} cores; `benchmarks/bench_pieces.py`):\n\n"
-        + markdown_table(header, rows)
+        f"{args.repeat} runs each alternating, medians "
+        f"({platform.processor() or platform.machine()}, {os.cpu_count()} cores; "
+        "`benchmarks/bench_pieces.py`):\n\n" + markdown_table(header, rows)
     )
     publish(body, "pieces", args.write)
 

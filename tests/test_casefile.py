@@ -5,6 +5,7 @@ start and designed case) are run after a move in tests/test_workflow.py."""
 
 from __future__ import annotations
 
+import itertools
 import json
 import os
 import re
@@ -19,7 +20,7 @@ import yaml
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from cloth.case.locations import PATH_KEYS, relocated
+from cloth.case.locations import EVERY, PATH_KEYS, relocated
 from cloth.cli import main
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -73,6 +74,8 @@ def _file_keys() -> set[tuple[str, ...]]:
             out.add(keys)
         for key, child in node.get("properties", {}).items():
             walk(child, (*keys, key))
+        if isinstance(node.get("items"), dict):  # every item of a list (a garment's bands)
+            walk(node["items"], (*keys, EVERY))
 
     walk(schema, ())
     return out
@@ -80,20 +83,29 @@ def _file_keys() -> set[tuple[str, ...]]:
 
 def test_every_key_that_names_a_file_is_relocated_and_a_home_path_kept():
     keys = _file_keys()
-    assert ("garment", "pattern", "file") in keys and len(keys) == 14
+    assert ("garment", "pattern", "file") in keys and len(keys) == 18
+    assert ("garment", "bands", EVERY, "material") in keys
     assert set(PATH_KEYS) == keys
     data: dict = {}
     for path in keys:
         holder = data
-        for key in path[:-1]:
-            holder = holder.setdefault(key, {})
-        holder[path[-1]] = "d/x.csv"
+        for key, after in itertools.pairwise(path):
+            if key == EVERY:
+                continue
+            if after == EVERY:  # a list of two items, both relocated
+                holder = holder.setdefault(key, [{}, {}])
+                continue
+            holder = holder.setdefault(key, {}) if isinstance(holder, dict) else holder
+        for item in holder if isinstance(holder, list) else [holder]:
+            item[path[-1]] = "d/x.csv"
     out = relocated(data, "/p", "/p/q")
     for path in keys:
-        value = out
+        values = [out]
         for key in path:
-            value = value[key]
-        assert value == "../d/x.csv", path
+            values = [v for item in values for v in (item if key == EVERY else [item[key]])]
+        assert values and all(v == "../d/x.csv" for v in values), path
+    bands = {"garment": {"bands": [{"material": "elastic25"}]}}
+    assert relocated(bands, "/p", "/p/q") == bands  # a shipped fabric's name is no path
     home = relocated({"material": "~/tables/net.csv"}, "/p", "/p/q")
     assert home["material"] == "~/tables/net.csv"  # the user's home, wherever the case goes
 

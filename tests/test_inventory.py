@@ -357,12 +357,17 @@ def _states(doc_lines: list[str], key: str, value: object) -> bool:
     return False
 
 
+#: The case keys of a garment's pieces (`cloth.case.pieces`), read from a case that has them.
+PIECE_KEYS = ("garment.bands.", "garment.layers.", "garment.panels.", "garment.seams.")
+
+
 def _effective(case, key: str):
     """The value a validated case carries for the case key ``key``."""
     if key.startswith("girth_reading."):
         return getattr(case.reading, key.split(".")[1])
     node = case.to_dict()
     for part in key.split("."):
+        node = node[0] if isinstance(node, list) else node  # a list's first item (a band)
         node = node[part]
     return node
 
@@ -396,6 +401,22 @@ def test_every_default_is_the_schema_s_the_case_s_and_the_one_docs_config_states
         kind: validate_case({"material": "powernet", "body": body, "garment": garment})
         for kind, body in bodies.items()
     }
+    # a garment of several pieces, each item's defaulted keys left out (cloth.case.pieces)
+    several = {
+        **garment,
+        "bands": [{"name": "band", "material": "elastic25", "width": 0.02, "reduction": 0.1}],
+        "layers": [
+            {"material": "controlnet", "from_deg": 0, "to_deg": 90, "bottom": 0.2, "top": 0.3}
+        ],
+        "panels": [{"material": "powernet", "from_deg": 0, "to_deg": 360}],
+        "seams": {},
+    }
+    pieces = validate_case({"material": "powernet", "body": bodies["cylinder"], "garment": several})
+    typed = pieces.garment.pieces  # the types apply the same defaults
+    assert typed.bands[0].at == stated["case.yaml", "garment.bands.at"]
+    assert typed.bands[0].layers == stated["case.yaml", "garment.bands.layers"]
+    assert typed.layers[0].layers == stated["case.yaml", "garment.layers.layers"]
+    assert typed.seams.allowance_mm == stated["case.yaml", "garment.seams.allowance_mm"]
     from cloth.case.reading import Reading
 
     for (file, key), value in stated.items():
@@ -406,6 +427,8 @@ def test_every_default_is_the_schema_s_the_case_s_and_the_one_docs_config_states
         parts = key.split(".")
         kind = parts[1] if key.startswith("body.") and len(parts) == 3 else "mesh"
         case = cases[kind] if key.startswith("body.") else cases["cylinder"]
+        if key.startswith(PIECE_KEYS):
+            case = pieces
         assert _effective(case, key) == value, key
     # a contact block without friction is frictionless
     frictionless = validate_case(

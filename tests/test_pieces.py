@@ -444,3 +444,49 @@ def load_result_path(tmp_path, case):
     from tests.conftest import run_result
 
     return run_result(tmp_path, case) / "result.nc"
+
+
+def test_a_band_at_the_bottom_or_at_a_height_holds_rows_of_its_own():
+    """A band at the bottom edge takes the rows within its width there; a band at a height
+    narrower than the row spacing still holds a row (moved to its middle); each band's rows
+    stand for exactly its width of fabric (their weft springs' tributary)."""
+    bands = [
+        {
+            "name": "legband",
+            "material": "elastic25",
+            "at": "bottom",
+            "width": 0.03,
+            "reduction": 0.05,
+        },
+        {"name": "midband", "material": "elastic25", "at": 0.25, "width": 0.01, "reduction": 0.05},
+    ]
+    state = initial_state(cylinder_case({"bands": bands}, n=16, m=8))
+    grid = state.grid
+    z = state.x.reshape(grid.m, grid.n, 3)[..., 2].mean(axis=1)
+    zone = np.asarray(state.row_values("row_band"))
+    assert np.all(zone[z <= 0.13 + 1e-9] == 0) and np.all(zone[z > 0.13 + 1e-9] != 0)
+    assert np.count_nonzero(zone == 1) == 1 and z[zone == 1][0] == pytest.approx(0.25)
+    tributary = grid.area[grid.family_slices[WEFT]].reshape(grid.m, grid.n)[:, 0] / (
+        load_fabric("elastic25").thickness
+    )
+    for k, width in enumerate((0.03, 0.01)):
+        assert tributary[zone == k].sum() == pytest.approx(width, rel=1e-9)
+
+
+def test_design_finds_a_bands_reduction_for_its_target():
+    """cloth design's loop with a target on a band's line moves the band's reduction alone and
+    meets the target; the reduction is the closed form's, P = T_band(1 / (1 - r) - 1) / R,
+    within the chord's discretisation (0.5 % of the reduction)."""
+    from cloth.files.body import body_from_record
+    from cloth.results.pressure import MMHG
+    from cloth.results.targets import Target
+    from cloth.stages.design import design
+
+    state = initial_state(band_case(128, 24))
+    target = 20 * MMHG
+    result = design(state, body_from_record(state.body), [Target("waistband", target)])
+    assert result.knots == () and result.bands == ("waistband",)
+    assert result.met
+    assert result.reduction() == 0.2  # the body's cut, untouched
+    exact = brentq(lambda r: tension("elastic25", 1 / (1 - r) - 1) / R - target, 0.0, 0.5)
+    assert result.band_reductions()["waistband"] == pytest.approx(exact, rel=5e-3)

@@ -27,13 +27,20 @@ BODY_PATH_KEYS: tuple[tuple[str, ...], ...] = (
     ("avatar", "mesh"),
 )
 #: The keys of a case mapping that hold a path, as key paths from the top: the material, the
-#: body's files, and a worn pattern's (``garment.pattern``: its file, or its body's files).
+#: body's files, a worn pattern's (``garment.pattern``: its file, or its body's files), and the
+#: fabrics of a garment's bands, panels, layers and seams (``*``: every item of a list).
 PATH_KEYS: tuple[tuple[str, ...], ...] = (
     ("material",),
     *(("body", *keys) for keys in BODY_PATH_KEYS),
     ("garment", "pattern", "file"),
     *(("garment", "pattern", "body", *keys) for keys in BODY_PATH_KEYS),
+    ("garment", "bands", "*", "material"),
+    ("garment", "panels", "*", "material"),
+    ("garment", "layers", "*", "material"),
+    ("garment", "seams", "material"),
 )
+#: Every item of a list, in a key path of `PATH_KEYS`.
+EVERY = "*"
 
 
 def bundled_material(value: str) -> bool:
@@ -43,8 +50,29 @@ def bundled_material(value: str) -> bool:
 
 
 def is_path(keys: tuple[str, ...], value: str) -> bool:
-    """Whether ``value`` at ``keys`` names a file: always, except a bundled material's name."""
-    return not (keys == ("material",) and bundled_material(value))
+    """Whether ``value`` at ``keys`` names a file: always, except a bundled material's name
+    (the case's, or a band's, panel's, layer's or seam's)."""
+    return not (keys[-1] == "material" and bundled_material(value))
+
+
+def _holders(data: Any, keys: tuple[str, ...]) -> list[dict[str, Any]]:
+    """The mappings in ``data`` that hold the last key of ``keys`` (every item where a key is
+    `EVERY`)."""
+    holders = [data]
+    for key in keys[:-1]:
+        found = []
+        for holder in holders:
+            child = holder.get(key) if isinstance(holder, dict) else None
+            if key == EVERY:
+                found += (
+                    [item for item in holder if isinstance(item, dict)]
+                    if isinstance(holder, list)
+                    else []
+                )
+            elif child is not None:
+                found.append(child)
+        holders = found
+    return [h for h in holders if isinstance(h, dict)]
 
 
 def relocated(data: dict[str, Any], source: str | Path, target: str | Path) -> dict[str, Any]:
@@ -55,18 +83,14 @@ def relocated(data: dict[str, Any], source: str | Path, target: str | Path) -> d
     source_dir = os.path.abspath(source)
     target_dir = os.path.abspath(target)
     for keys in PATH_KEYS:
-        holder = out
-        for key in keys[:-1]:
-            holder = holder.get(key) if isinstance(holder, dict) else None
-            if holder is None:
-                break
-        if not isinstance(holder, dict) or not isinstance(holder.get(keys[-1]), str):
-            continue
-        value = holder[keys[-1]]
-        if os.path.isabs(os.path.expanduser(value)) or not is_path(keys, value):
-            continue
-        holder[keys[-1]] = os.path.relpath(os.path.join(source_dir, value), target_dir)
+        for holder in _holders(out, keys):
+            value = holder.get(keys[-1])
+            if not isinstance(value, str):
+                continue
+            if os.path.isabs(os.path.expanduser(value)) or not is_path(keys, value):
+                continue
+            holder[keys[-1]] = os.path.relpath(os.path.join(source_dir, value), target_dir)
     return out
 
 
-__all__ = ["BODY_PATH_KEYS", "PATH_KEYS", "bundled_material", "is_path", "relocated"]
+__all__ = ["BODY_PATH_KEYS", "EVERY", "PATH_KEYS", "bundled_material", "is_path", "relocated"]

@@ -138,15 +138,22 @@ def piece_of(
     material: str,
     allowance: float = SEAM_ALLOWANCE_MM,
     notes: Sequence[str] = (),
+    name: str | None = None,
+    quantity: int | None = None,
+    edge_notches: Sequence[float] = (),
 ) -> Piece:
     """The piece of ``pattern`` for ``size`` (module docstring); `InputError` for a negative or
-    non-finite allowance."""
+    non-finite allowance. ``name`` and ``quantity``: a piece of a garment of several
+    (`cloth.files.garmentpieces`), in place of the cut's; ``edge_notches``: x (mm) of notches
+    on its lower edge (where a band meets the panels' seams)."""
     if not (np.isfinite(allowance) and allowance >= 0):
         raise InputError(
             f"must be a length >= 0 in mm (0: the net pattern), got {allowance}",
             field="pattern.seam_allowance_mm",
         )
-    name, quantity = PIECES[pattern.cut]
+    own_name, own_quantity = PIECES[pattern.cut]
+    name = own_name if name is None else name
+    quantity = own_quantity if quantity is None else quantity
     sew = pattern.outline()
     if _signed_area(sew) < 0:
         sew = sew[::-1]
@@ -161,6 +168,9 @@ def piece_of(
         left, right = float(xs[0]), float(xs[-1])
         notches.append((np.array([left, y]), np.array([left + depth, y])))
         notches.append((np.array([right, y]), np.array([right - depth, y])))
+    lowest = float(cut[:, 1].min())
+    for x in edge_notches:
+        notches.append((np.array([x, lowest]), np.array([x, lowest + depth])))
     top = float(pattern.height.max())
     bottom = float(pattern.height.min())
     grain = np.array([[0.0, bottom + 0.2 * (top - bottom)], [0.0, bottom + 0.8 * (top - bottom)]])

@@ -262,6 +262,8 @@ def predeform(
     if pieces.bands:
         girth = hull_girth if rows.cut_girth is None else rows.cut_girth
         circumference = band_circumference(circumference, girth, zone, pieces)
+        if row_reduction is not None:  # a band's rows: its own reduction of the girth
+            row_reduction = np.where(zone >= 0, 1.0 - circumference / girth, row_reduction)
     moduli = garment.moduli
     around = garment.around
     worn = set_strains(garment, fabric, source)
@@ -326,6 +328,7 @@ def predeform(
             "cut_shift": shift,
             **({} if garment.pattern is None else {"cut_lines": json.dumps(_marks(pattern))}),
             **({} if row_reduction is None else {"row_reduction": row_reduction.tolist()}),
+            **({"row_band": zone.tolist()} if pieces.bands else {}),
             **({} if rows.cut_girth is None else {"cut_girth": rows.cut_girth.tolist()}),
             **_table_attr(pattern),
             **{f"set_strain_{d}": s for d, s in worn.items()},
@@ -416,7 +419,26 @@ def with_profile(state: State, values: NDArray[np.float64]) -> State:
     if "cut_lines" in state.attrs:  # a pattern cut for another body: its girth lines
         marks = json.loads(state.attrs["cut_lines"])
     rows = profile.evaluate(state.row_values("cut_height"), marks)
+    band = state.row_values("row_band")
+    if band is not None:  # a band's rows keep its own reduction
+        rows = np.where(band >= 0, state.row_values("row_reduction"), rows)
     data = state.case.to_dict()
     data["garment"]["reduction"] = profile.to_block()
+    attrs = {**state.attrs, "row_reduction": rows.tolist()}
+    return replace(state, grid=recut(state, rows), case=Case.from_dict(data), attrs=attrs)
+
+
+def with_bands(state: State, reductions: Mapping[int, float]) -> State:
+    """``state`` with band k's reduction replaced by ``reductions[k]`` (1): the case says so,
+    its rows are `recut`, the positions stay (a warm start, as `with_profile`)."""
+    band = state.row_values("row_band")
+    rows = state.row_values("row_reduction")
+    if band is None or rows is None:
+        raise ValueError("with_bands needs a graded pattern with bands")
+    data = state.case.to_dict()
+    rows = rows.copy()
+    for k, value in reductions.items():
+        rows[band == k] = float(value)
+        data["garment"]["bands"][k]["reduction"] = float(value)
     attrs = {**state.attrs, "row_reduction": rows.tolist()}
     return replace(state, grid=recut(state, rows), case=Case.from_dict(data), attrs=attrs)

@@ -116,7 +116,12 @@ def _key_path(error: jsonschema.ValidationError) -> str:
 
 
 def _fill_defaults(schema: dict[str, Any], data: Any) -> None:
-    """Set the schema's defaults on missing keys of nested objects (in place)."""
+    """Set the schema's defaults on missing keys of nested objects, and of the objects in
+    arrays (a garment's bands, panels and layers), in place."""
+    if isinstance(data, list) and isinstance(schema.get("items"), dict):
+        for item in data:
+            _fill_defaults(schema["items"], item)
+        return
     if not isinstance(data, dict):
         return
     for key, sub in schema.get("properties", {}).items():

@@ -40,7 +40,8 @@ under the garment and the skin models' lagged quantities are not differentiated.
 from __future__ import annotations
 
 import logging
-from dataclasses import dataclass
+from collections.abc import Sequence
+from dataclasses import dataclass, replace
 
 import numpy as np
 import scipy.sparse as sp
@@ -53,7 +54,7 @@ from cloth.garment.mechanics import operators
 from cloth.garment.predeform import recut
 from cloth.garment.state import State
 from cloth.results.bands import band_weights
-from cloth.results.landmarks import girth_line
+from cloth.results.landmarks import band_half_widths, girth_line
 from cloth.solvers.activeset import held_nodes
 from cloth.solvers.linear import lu_factor
 from cloth.solvers.newton import newton_matrix, stiffness_at
@@ -207,12 +208,23 @@ def force_derivatives(
 
 
 def sensitivities(
-    state: State, body: Body, ev: Evaluation, heights: dict[str, float], factor=None
+    state: State,
+    body: Body,
+    ev: Evaluation,
+    heights: dict[str, float],
+    factor=None,
+    bands: Sequence[int] = (),
+    knots: bool = True,
 ) -> Sensitivity:
     """The girth lines' means at the equilibrium ``ev`` of ``state`` on ``body`` and their
     derivatives in the profile's knot values (module docstring). ``factor``: a factor of the
     exact Newton matrix at or near ``ev`` (the run's own, `cloth.solvers.saddle.kept_factor`),
-    refined against the matrix at ``ev`` (no factorisation); else one is made."""
+    refined against the matrix at ``ev`` (no factorisation); else one is made.
+
+    A garment's bands (`cloth.case.pieces`) are cut with their own reductions, which the
+    profile does not move; ``bands``: the bands (indices) whose reductions are controls too,
+    after the knots (``knots`` False: the bands' alone). A band line is read over its own
+    width (`cloth.results.landmarks.band_half_widths`), as result.nc reads it."""
     problem = Problem.of(state, body)
     if not counts(problem):
         raise ValueError(
@@ -230,6 +242,15 @@ def sensitivities(
     profile = state.case.garment.reduction_profile
     marks = {**state.body.get("landmarks", {}), **state.case.landmarks}
     rows = profile.row_sensitivity(state.row_values("cut_height"), marks)
+    names_of = list(profile.keys)
+    band = state.row_values("row_band")
+    if band is not None:
+        rows = np.where(band[:, None] >= 0, 0.0, rows)  # the profile leaves bands be
+    if not knots:
+        rows, names_of = rows[:, :0], []
+    if bands:
+        rows = np.column_stack([rows, *[(band == k).astype(float) for k in bands]])
+        names_of += [f"band_{state.case.garment.pieces.bands[k].name}" for k in bands]
     d_forces = force_derivatives(state, ev, rows)  # (K, N, 3)
     projected = np.einsum("nij,knj->kni", projector, d_forces).reshape(len(d_forces), -1)
     if factor is None:
@@ -238,10 +259,12 @@ def sensitivities(
     area = node_area(ev.x, state.grid)
     direction = reaction_direction(ev.normal, problem.constraint)
     names, means, jac = [], [], []
+    widths = band_half_widths(state)
     for name, height in sorted(heights.items(), key=lambda item: item[1]):
-        line = line_gradient(
-            problem, ev, k(False), height, turn, area, direction, state.case.reading
-        )
+        reading = state.case.reading
+        if name in widths:
+            reading = replace(reading, half_width=widths[name])
+        line = line_gradient(problem, ev, k(False), height, turn, area, direction, reading)
         if line is None:
             continue
         mu = _refined_solve(matrix, factor, line.gradient.ravel())
@@ -249,7 +272,7 @@ def sensitivities(
         names.append(name)
         means.append(line.value)
         jac.append(direct + projected @ mu)
-    return Sensitivity(tuple(names), profile.keys, np.asarray(means), np.asarray(jac))
+    return Sensitivity(tuple(names), tuple(names_of), np.asarray(means), np.asarray(jac))
 
 
 def _refined_solve(matrix: sp.csr_matrix, factor, rhs: NDArray[np.float64]) -> NDArray:

@@ -34,7 +34,7 @@ from cloth.bodies import Body
 from cloth.case import Case, Settings
 from cloth.errors import InputError
 from cloth.garment.grid import WEFT
-from cloth.garment.predeform import predeform, with_profile
+from cloth.garment.predeform import predeform, with_bands, with_profile
 from cloth.garment.state import State
 from cloth.results.landmarks import landmark_heights
 from cloth.results.pressure import MMHG
@@ -89,14 +89,30 @@ class Design:
     #: For a case of one uniform reduction: the uniform reduction of least squares misses (one
     #: Gauss-Newton step from the case's) and its equilibrium's line means (L,), Pa.
     uniform: tuple[float, NDArray[np.float64]] | None = None
+    #: The bands (`cloth.case.pieces`) whose reductions the loop designed too, by name; their
+    #: values follow the knots' in ``values``.
+    bands: tuple[str, ...] = ()
 
     @property
     def met(self) -> bool:
         return bool(np.all(np.abs(self.achieved - self.targets) <= self.tolerance))
 
-    def reduction(self) -> dict[str, float]:
-        """The designed profile as a case's ``garment.reduction``."""
-        return dict(zip(self.knots, self.values.tolist(), strict=True))
+    @property
+    def controls(self) -> tuple[str, ...]:
+        """What ``values`` holds: the profile's knots, then ``band NAME`` per designed band."""
+        return (*self.knots, *(f"band_{name}" for name in self.bands))
+
+    def reduction(self) -> float | dict[str, float]:
+        """The designed profile as a case's ``garment.reduction`` (the case's own where the
+        loop designed bands alone)."""
+        if not self.knots:
+            return self.state.case.to_dict()["garment"]["reduction"]
+        return dict(zip(self.knots, self.values[: len(self.knots)].tolist(), strict=True))
+
+    def band_reductions(self) -> dict[str, float]:
+        """The designed bands' reductions, by name."""
+        tail = self.values[len(self.knots) :].tolist()
+        return dict(zip(self.bands, tail, strict=True))
 
 
 def line_means(
@@ -219,14 +235,27 @@ def design(
     order = sorted(lines, key=lines.__getitem__)
     goal = np.array([next(t.pressure for t in targets if t.line == name) for name in order])
     graded = not state.case.garment.reduction_profile.uniform
-    state = _start(state, body, targets, source)
-    values = np.asarray(state.case.garment.reduction_profile.values, dtype=float)
+    # a target on a band's line is met by the band's own reduction (cloth.case.pieces)
+    band_of = {
+        b.name: k for k, b in enumerate(state.case.garment.pieces.bands) if b.reduction is not None
+    }
+    bands = tuple(sorted({band_of[t.line] for t in targets if t.line in band_of}))
+    body_targets = [t for t in targets if t.line not in band_of]
+    knots = bool(body_targets) or not bands
+    if knots:
+        state = _start(state, body, body_targets, source)
+    values = _controls(state, knots, bands)
+    n_knots = len(values) - len(bands)
+
+    def sensitivity(state: State, result: Result) -> Sensitivity:
+        return sensitivities(state, body, result.final, lines, result.factor, bands, knots)
+
     result = relax(state, body, settings)
     state = state.with_positions(result.final.x)
-    sens = line_sensitivities(state, body, result, lines)
+    sens = sensitivity(state, result)
     _check_lines(sens, order, lines, state, source)
     solves, iterates, shortfall, uniform = 1, [_iterate(values, sens, result)], None, None
-    if not graded:
+    if not graded and knots and not bands:
         caps = lab_caps(state, result, heights)
         uniform = _uniform(state, body, settings, sens, goal, caps, lines)
         solves += 1
@@ -236,22 +265,28 @@ def design(
         _log(solves, values, sens.means, goal)
         if np.all(np.abs(miss) <= AIM * tolerance) or solves >= MAX_SOLVES - 1:
             break
-        upper = lab_caps(state, result, heights)
+        upper = np.full(len(values), BOUNDS[1])
+        if n_knots:
+            upper[:n_knots] = lab_caps(state, result, heights)
         step, pinned, left = bounded_step(sens.jacobian, miss, values, upper)
         held = pinned.any() and np.all(np.abs(miss[left]) <= AIM * tolerance)
         if held or np.max(np.abs(step)) <= STALLED:  # the bounds hold the knots where they are
             break
         values = values + step
-        moved = with_profile(state, values)
+        moved = state
+        if n_knots:
+            moved = with_profile(moved, values[:n_knots])
+        if bands:
+            moved = with_bands(moved, dict(zip(bands, values[n_knots:].tolist(), strict=True)))
         result = relax(moved, body, settings)
         solves += 1
         state = moved.with_positions(result.final.x)
-        sens = line_sensitivities(state, body, result, lines)
+        sens = sensitivity(state, result)
         iterates.append(_iterate(values, sens, result))
     if not np.all(np.abs(sens.means - goal) <= tolerance):
         shortfall = _shortfall(order, sens, goal, values, tolerance, pinned, upper)
     return Design(
-        knots=state.case.garment.reduction_profile.keys,
+        knots=state.case.garment.reduction_profile.keys if knots else (),
         values=values,
         lines=tuple(order),
         targets=goal,
@@ -262,7 +297,17 @@ def design(
         state=state,
         shortfall=shortfall,
         uniform=uniform,
+        bands=tuple(state.case.garment.pieces.bands[k].name for k in bands),
     )
+
+
+def _controls(state: State, knots: bool, bands: tuple[int, ...]) -> NDArray[np.float64]:
+    """The design's control values: the profile's knot values (where ``knots``), then the
+    reductions of ``bands``."""
+    garment = state.case.garment
+    values = list(garment.reduction_profile.values) if knots else []
+    values += [float(garment.pieces.bands[k].reduction) for k in bands]
+    return np.asarray(values, dtype=float)
 
 
 def _iterate(values: NDArray, sens: Sensitivity, result: Result) -> Iterate:

@@ -220,7 +220,10 @@ def _iterations(result: Design, path: Path) -> None:
     for k, it in enumerate(result.iterates, start=1):
         row: dict[str, object] = {"equilibrium": k, "newton_iterations": it.iterations}
         row.update(
-            {f"reduction_{key}": float(v) for key, v in zip(result.knots, it.values, strict=True)}
+            {
+                f"reduction_{key}": float(v)
+                for key, v in zip(result.controls, it.values, strict=True)
+            }
         )
         row.update(
             {
@@ -263,7 +266,7 @@ def confirmed_rows(result: Design, confirmed: xr.Dataset) -> list[dict[str, obje
         row.update(
             {
                 f"reduction_{key}": float(v)
-                for key, v in zip(result.knots, result.values, strict=True)
+                for key, v in zip(result.controls, result.values, strict=True)
             }
         )
         row["equilibria"] = result.solves + 1

@@ -15,6 +15,13 @@ Files, beside ``output`` (``pattern.csv`` here): with one result ``pattern.csv``
 ``.dxf`` and ``pattern.pdf``; with several, ``pattern_{size}.csv`` etc. per size; always one
 ``pattern_astm.dxf`` and, for a tube, ``pattern_knitting.csv`` and ``pattern_knitting.png``.
 
+A garment of several fabrics (bands, panels, layers; `cloth.files.garmentpieces`) is cut as
+several pieces: ``pattern.csv`` stays the whole garment's rows (a case can wear it), and
+``pattern_pieces.csv`` gives every piece's rows, cut length and width; the SVG and DXF show
+the pieces side by side on one sheet (`cloth.files.piecesheet`); each piece has its own 1:1
+PDF (``pattern_{PIECE}.pdf``) and its own block per size in the nest; the knitting table
+covers the body's and the bands' tubes.
+
 A size is named by ``sizes``, else by the result's parametric body (its chart size), else
 ``sample``. Every input is checked before a file is written.
 """
@@ -31,11 +38,15 @@ import xarray as xr
 
 from cloth.errors import InputError
 from cloth.files.astm import write_nest
+from cloth.files.garmentpieces import COLUMNS as PIECE_COLUMNS
+from cloth.files.garmentpieces import PiecePattern, garment_pieces, piece_rows
 from cloth.files.knitting import STEP_MM, check_step, write_knitting
-from cloth.files.pattern import CUTS, pattern_of, write_csv, write_dxf, write_svg
-from cloth.files.piece import SEAM_ALLOWANCE_MM, piece_of
+from cloth.files.pattern import CUTS, Pattern, pattern_of, write_csv, write_dxf, write_svg
+from cloth.files.piece import SEAM_ALLOWANCE_MM, Piece, piece_of
+from cloth.files.piecesheet import write_sheet_dxf, write_sheet_svg
 from cloth.files.printout import sheet, write_pdf
 from cloth.io import read_netcdf
+from cloth.pipeline.sweep import write_rows
 
 log = logging.getLogger(__name__)
 
@@ -138,35 +149,95 @@ def write_patterns(
     if "knitting" in formats:
         check_step(step)  # refused before any file
     material = str(datasets[0].attrs.get("fabric_name", "fabric"))
+    several = {
+        size: garment_pieces(data, patterns[size])
+        for size, data in zip(sizes, datasets, strict=True)
+    }
     pieces = {
-        size: piece_of(pattern, size, material, allowance, notes)
+        size: [piece_of(pattern, size, material, allowance, notes)]
+        if not several[size]
+        else [
+            piece_of(
+                part.pattern,
+                size,
+                part.material,
+                allowance,
+                notes,
+                name=part.name,
+                quantity=part.quantity,
+                edge_notches=part.notches_x,
+            )
+            for part in several[size]
+        ]
         for size, pattern in patterns.items()
     }
     one = len(results) == 1
     written: list[Path] = []
     for size, pattern in patterns.items():
         stem = output.stem if one else f"{output.stem}_{size}"
-        for name in formats:
-            if name in PLAIN:
-                written.append(PLAIN[name](pattern, output.with_name(f"{stem}.{name}")))
-                log.info("wrote %s", written[-1])
-        if "pdf" in formats:
-            written.append(write_pdf(pieces[size], output.with_name(f"{stem}.pdf"), paper))
+        written += _size_files(pattern, pieces[size], several[size], formats, output, stem, paper)
     if "astm" in formats:
         nest = output.with_name(f"{output.stem}_astm.dxf")
         written.append(
             write_nest(
-                list(pieces.values()),
+                [piece for size in sizes for piece in pieces[size]],
                 nest,
                 style or output.parent.name,
                 sizes[len(sizes) // 2],
             )
         )
     if "knitting" in formats:
+        tubes = {}  # a garment of several pieces: its knitted tubes, the body and the bands
+        for size in sizes:
+            if not several[size]:
+                tubes[size] = patterns[size]
+            for part in several[size]:
+                if part.kind in ("body", "band"):
+                    tubes[f"{size} {part.name}"] = part.pattern
         written += write_knitting(
-            patterns,
+            tubes,
             output.with_name(f"{output.stem}_knitting.csv"),
             output.with_name(f"{output.stem}_knitting.png"),
             step,
         )
+    return written
+
+
+def _size_files(
+    pattern: Pattern,
+    pieces: list[Piece],
+    several: list[PiecePattern],
+    formats: Sequence[str],
+    output: Path,
+    stem: str,
+    paper: str,
+) -> list[Path]:
+    """One size's files: the table, outline and 1:1 PDF of its one piece; for a garment of
+    several pieces (``several``), the whole garment's table, every piece's rows
+    (``{stem}_pieces.csv``), the pieces on one sheet (SVG, DXF) and a 1:1 PDF per piece."""
+    written: list[Path] = []
+    for name in formats:
+        if name == "csv":
+            written.append(write_csv(pattern, output.with_name(f"{stem}.csv")))
+            if several:
+                written.append(
+                    write_rows(
+                        piece_rows(several),
+                        output.with_name(f"{stem}_pieces.csv"),
+                        list(PIECE_COLUMNS),
+                    )
+                )
+        elif name in PLAIN:
+            target = output.with_name(f"{stem}.{name}")
+            if several:
+                sheet_writer = write_sheet_svg if name == "svg" else write_sheet_dxf
+                written.append(sheet_writer(pieces, target))
+            else:
+                written.append(PLAIN[name](pattern, target))
+    if "pdf" in formats:
+        for piece in pieces:
+            suffix = f"_{piece.name}" if several else ""
+            written.append(write_pdf(piece, output.with_name(f"{stem}{suffix}.pdf"), paper))
+    for path in written:
+        log.info("wrote %s", path)
     return written
