@@ -5,8 +5,8 @@ alone, side by side (A B A B ...), medians and their ratio; and predeform's time
 The garment is the default config's (0.86-1.22 m, reduction 0.20, 288 x 144, Newton with its
 default continuation). The pieces: a power-net front panel (-60 to 60 degrees), light-net sides
 (60 to 180 and 180 to 300 degrees) with 6 mm seams, a 25 mm elastic band at the top and a
-20 mm one at the bottom. Writes the table into docs/measurements/performance-log.md (section
-``pieces``) with ``--write``. Run:
+20 mm one at the bottom. Writes the table into docs/performance.md (section ``pieces``) with
+``--write``. Run:
 
     .venv/bin/python benchmarks/bench_pieces.py [--grid 288x144] [--repeat 3] [--write]
 """
@@ -18,12 +18,16 @@ import os
 import platform
 import statistics
 import time
+from dataclasses import replace
 
-from _table import markdown_table, publish
+from _table import PERFORMANCE, markdown_table, publish
 
 from cloth.files.body import body_from_config
 from cloth.solvers import relax
 from cloth.stages.case import initial_state
+
+#: The page the table goes into.
+PAGE = PERFORMANCE.parents[1] / "performance.md"
 
 PIECES = {
     "panels": [
@@ -55,7 +59,7 @@ def case(grid: tuple[int, int], pieces: bool) -> dict:
         "material": "powernet",
         "body": {"torso": {"size": "M"}},
         "garment": garment,
-        "solver": {"method": "newton", "tolerance": 1e-8, "max_iterations": 150, "progress": False},
+        "solver": {"method": "newton", "tolerance": 1e-8, "max_iterations": 150},
     }
 
 
@@ -66,7 +70,7 @@ def timed(grid: tuple[int, int], pieces: bool) -> tuple[float, float, bool]:
     made = time.perf_counter() - start
     body, _ = body_from_config(state.case.body.block, span=(0.86, 1.22))
     start = time.perf_counter()
-    result = relax(state, body, state.case.solver)
+    result = relax(state, body, replace(state.case.solver, progress=False))
     return made, time.perf_counter() - start, bool(result.converged)
 
 
@@ -105,7 +109,7 @@ def main() -> None:
         f"({platform.processor() or platform.machine()}, {os.cpu_count()} cores; "
         "`benchmarks/bench_pieces.py`):\n\n" + markdown_table(header, rows)
     )
-    publish(body, "pieces", args.write)
+    publish(body, "pieces", args.write, PAGE)
 
 
 if __name__ == "__main__":

@@ -29,18 +29,23 @@ reports that fabric's stress exactly.
 from __future__ import annotations
 
 import itertools
+import logging
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
 
 import numpy as np
 from numpy.typing import NDArray
 
+from cloth.case import Case
 from cloth.case.pieces import Pieces
 from cloth.errors import InputError
 from cloth.garment.grid import WARP, WEFT, Grid
+from cloth.garment.state import grid_fabric
 from cloth.materials.composite import parallel, scaled, series
 from cloth.materials.curves import Fabric, StressStrainCurve
 from cloth.materials.curveset import CurveSet
+
+log = logging.getLogger(__name__)
 
 #: The name of the case's own fabric among a garment's fabrics.
 BODY = "body"
@@ -318,6 +323,7 @@ def spring_materials(
     fabric = np.empty(index.size, dtype=np.int16)
     node_fabric = np.empty(n * m, dtype=np.int16)
     edges = np.arange(n + 1) / n
+    garment_thickness = [garment.thickness(name) for name in names]
 
     def row_pieces(j: int):
         if zone[j] >= 0:
@@ -334,7 +340,20 @@ def spring_materials(
                 out.append((share, layer))
         return out
 
-    # weft springs: row j, column i spans shares [i, i + 1] / n
+    def assign(k, family: int, own_name: str, parts) -> None:
+        """Springs ``k`` (an index or indices among the weft and warp springs) of ``family``:
+        their curve, the series of ``parts`` ((rest-length share, stack) pairs) over their own
+        fabric's thickness."""
+        own = garment.thickness(own_name)
+        key = (family, own_name, tuple((round(f, ROUND), _key(st)) for f, st in parts))
+        index[k] = recipes.add(
+            key,
+            lambda: series([(f, _stack_curve(garment, st, family, own)) for f, st in parts]),
+        )
+        fabric[k] = number[own_name]
+
+    # weft springs: row j, column i spans shares [i, i + 1] / n; a spring within one piece
+    # (all but those across a seam or a layer's side) takes that piece's curve, found once
     for j in range(m):
         around = row_pieces(j)
         strip = (
@@ -348,38 +367,77 @@ def spring_materials(
             else [(a, b, (st, ())) for a, b, st in around]
         )
         tributary = boundary[j + 1] - boundary[j]
-        for i in range(n):
-            series_parts = []
-            for share, (stack, over) in _overlaps(edges[i], edges[i + 1], laid):
-                extra = [
-                    (layer.material, strip[id(layer)] * layer.layers)
-                    for layer in over
-                    if strip.get(id(layer), 0.0) > 0
-                ]
-                series_parts.append((share, (*stack, *extra)))
-            own_name = _at(around, 0.5 * (edges[i] + edges[i + 1]))
-            own = garment.thickness(own_name)
-            key = (WEFT, own_name, tuple((round(f, ROUND), _key(s)) for f, s in series_parts))
-            k = j * n + i
-            index[k] = recipes.add(
-                key,
-                lambda sp=series_parts, own=own: series(
-                    [(f, _stack_curve(garment, s, WEFT, own)) for f, s in sp]
-                ),
-            )
-            fabric[k] = number[own_name]
-            area[weft.start + k] = tributary * own
-            node_fabric[k] = number[_at(around, edges[i])]
-    # warp springs: column i between rows j and j + 1, its tributary [i - 1/2, i + 1/2] / n
+
+        def stack_of(payload, strip=strip):
+            stack, over = payload
+            extra = [
+                (layer.material, strip[id(layer)] * layer.layers)
+                for layer in over
+                if strip.get(id(layer), 0.0) > 0
+            ]
+            return (*stack, *extra)
+
+        starts = np.array([a for a, _, _ in laid])
+        ends = np.array([b for _, b, _ in laid])
+        holder = np.searchsorted(starts, 0.5 * (edges[:-1] + edges[1:]), side="right") - 1
+        pure = (starts[holder] <= edges[:-1] + 1e-12) & (edges[1:] <= ends[holder] + 1e-12)
+        for piece in np.unique(holder[pure]):
+            stack = stack_of(laid[piece][2])
+            mine = j * n + np.flatnonzero(pure & (holder == piece))
+            assign(mine, WEFT, stack[0][0], [(1.0, stack)])
+        for i in np.flatnonzero(~pure):
+            parts = [
+                (f, stack_of(payload)) for f, payload in _overlaps(edges[i], edges[i + 1], laid)
+            ]
+            assign(j * n + i, WEFT, _at(around, 0.5 * (edges[i] + edges[i + 1])), parts)
+        area[weft.start + j * n : weft.start + (j + 1) * n] = (
+            tributary * np.asarray(garment_thickness)[fabric[j * n : (j + 1) * n]]
+        )
+        node_fabric[j * n : (j + 1) * n] = [number[name] for name in _at_many(around, edges[:-1])]
+    # warp springs: column i between rows j and j + 1, its tributary [i - 1/2, i + 1/2] / n;
+    # where both rows are one fabric there (no band's edge, no layer's edge or side, no seam)
+    # the column takes that fabric's curve, found once
     offset = weft.stop - weft.start
+    lows, highs = (np.arange(n) - 0.5) / n, (np.arange(n) + 0.5) / n
     for j in range(m - 1):
         cut = boundary[j + 1]  # where row j's strip meets row j + 1's
         spans = [(v[j], cut, j), (cut, v[j + 1], j + 1)]
-        for i in range(n):
-            low, high = (i - 0.5) / n, (i + 0.5) / n
+        fast = np.zeros(n, bool)
+        split = any(v[j] < x < v[j + 1] for lo, hi, _ in layers_v for x in (lo, hi))
+        if zone[j] == zone[j + 1] and not split:
+            below, above = row_pieces(j), row_pieces(j + 1)
+            over = [] if zone[j] >= 0 else _split_layers(v[j], v[j + 1], layers_v)[0][2]
+            mid = 0.5 * (lows + highs)
+            found = []
+            for pieces_row in (below, above):
+                starts = np.array([a for a, _, _ in pieces_row])
+                ends = np.array([b for _, b, _ in pieces_row])
+                k = np.searchsorted(starts, mid, side="right") - 1
+                inside = (starts[k] <= lows + 1e-12) & (highs <= ends[k] + 1e-12)
+                found.append((k, inside, pieces_row))
+            (k_b, in_b, _), (k_a, in_a, _) = found
+            same = np.array([below[p][2] == above[q][2] for p, q in zip(k_b, k_a, strict=True)])
+            covers = [_full_or_none(layer, lows, highs) for layer in over]
+            whole = np.all([c >= 0 for c in covers], axis=0) if covers else np.ones(n, bool)
+            fast = in_b & in_a & same & whole & (lows >= 0)
+            cover = np.stack(covers, axis=1) if covers else np.zeros((n, 0), int)
+            groups: dict[tuple, list[int]] = {}
+            for i in np.flatnonzero(fast):
+                groups.setdefault((int(k_b[i]), tuple(cover[i])), []).append(int(i))
+            for (piece, layer_cover), columns in groups.items():
+                extra = [
+                    (layer.material, float(layer.layers))
+                    for layer, c in zip(over, layer_cover, strict=True)
+                    if c == 1
+                ]
+                stack = (*below[piece][2], *extra)
+                mine = offset + j * n + np.asarray(columns)
+                assign(mine, WARP, stack[0][0], [(1.0, stack)])
+        for i in np.flatnonzero(~fast):
+            low, high = lows[i], highs[i]
             if low < 0:
                 low, high = low + 1.0, high + 1.0
-            series_parts = []
+            parts = []
             own_name = body
             for a, b, row in spans:
                 if b - a <= 0:
@@ -396,20 +454,16 @@ def spring_materials(
                         cover = _layer_share(layer, low, high)
                         if cover > 0:
                             stack.append((layer.material, cover * layer.layers))
-                    series_parts.append(((pb - pa) / (v[j + 1] - v[j]), tuple(stack)))
+                    parts.append(((pb - pa) / (v[j + 1] - v[j]), tuple(stack)))
                 if a <= 0.5 * (v[j] + v[j + 1]) <= b:
                     own_name = _at(around, i / n)
-            own = garment.thickness(own_name)
-            key = (WARP, own_name, tuple((round(f, ROUND), _key(s)) for f, s in series_parts))
-            k = offset + j * n + i
-            index[k] = recipes.add(
-                key,
-                lambda sp=series_parts, own=own: series(
-                    [(f, _stack_curve(garment, s, WARP, own)) for f, s in sp]
-                ),
-            )
-            fabric[k] = number[own_name]
-            area[warp.start + j * n + i] = grid.area[warp.start + j * n + i] / thick * own
+            assign(offset + j * n + i, WARP, own_name, parts)
+        rows_of = slice(warp.start + j * n, warp.start + (j + 1) * n)
+        area[rows_of] = (
+            grid.area[rows_of]
+            / thick
+            * np.asarray(garment_thickness)[fabric[offset + j * n : offset + (j + 1) * n]]
+        )
     seams = np.array(sorted(share_of(p.from_deg) for p in pieces.panels)) if pieces.panels else None
     split = (boundary[1:-1] - v[:-1]) / np.diff(v)
     materials = SpringMaterials(
@@ -459,6 +513,30 @@ def _with_layers(around, layers) -> list[tuple[float, float, tuple]]:
     return out
 
 
+def _at_many(around, shares: NDArray[np.float64]) -> list[str]:
+    """`_at` at each of ``shares``."""
+    starts = np.array([a for a, _, _ in around])
+    k = np.clip(np.searchsorted(starts, np.mod(shares, 1.0), side="right") - 1, 0, None)
+    return [around[q][2][0][0] for q in k]
+
+
+def _full_or_none(layer, lows: NDArray, highs: NDArray) -> NDArray:
+    """Per span [lows, highs] (shares of a turn, within [0, 1]): 1 where ``layer``'s sector
+    covers it whole, 0 where it misses it, -1 where it covers a part."""
+    start = share_of(layer.from_deg)
+    end = start + (layer.to_deg - layer.from_deg) / 360.0
+    out = np.zeros(lows.size, dtype=int)
+    partial = np.zeros(lows.size, bool)
+    for shift in (0.0, -1.0):
+        a, b = start + shift, end + shift
+        whole = (lows >= a - 1e-12) & (highs <= b + 1e-12)
+        touch = (highs > a + 1e-12) & (lows < b - 1e-12)
+        out[whole] = 1
+        partial |= touch & ~whole
+    out[partial & (out == 0)] = -1
+    return out
+
+
 def _split_layers(a: float, b: float, layers_v) -> list[tuple[float, float, list]]:
     """[a, b] in rest v split at the layers' edges: (start, end, the layers over it)."""
     cuts = sorted({a, b, *[x for lo, hi, _ in layers_v for x in (lo, hi) if a < x < b]})
@@ -492,6 +570,38 @@ def tributary_boundaries(
     return np.concatenate(([rest_v[0]], mid, [rest_v[-1]]))
 
 
+def garment_grid(
+    grid: Grid,
+    case: Case,
+    fabric: Fabric,
+    fabrics: Mapping[str, Fabric],
+    cut_heights: NDArray[np.float64],
+    zone: NDArray,
+) -> Grid:
+    """``grid`` (of the case's ``fabric`` alone, rows cut at ``cut_heights``, m, each in its
+    band ``zone``) with the fabrics of the case's bands, panels, layers and seams, ``fabrics``
+    by name (as ingested; each seen by the grid as the case's ``around`` says)."""
+    garment = case.garment
+    pieces = garment.pieces
+    missing = [name for name in pieces.materials if name not in fabrics and name != case.material]
+    if missing:
+        raise ValueError(f"the garment's fabrics {missing} are missing (fabrics=...)")
+    seen = {name: grid_fabric(f, garment.around) for name, f in fabrics.items()}
+    seen[case.material] = grid_fabric(fabric, garment.around)
+    rest_v = grid.rest_uv[:: grid.n, 1]
+    boundary = tributary_boundaries(cut_heights, rest_v, zone, pieces, garment.bottom, garment.top)
+    materials, area = spring_materials(
+        grid, pieces, seen, case.material, cut_heights, zone, boundary
+    )
+    log.info(
+        "a garment of %d fabrics (%s), %d curves for its springs",
+        len(materials.names),
+        ", ".join(materials.names),
+        len(materials.curves),
+    )
+    return with_pieces(grid, materials, area)
+
+
 def with_pieces(grid: Grid, materials: SpringMaterials, area: NDArray[np.float64]) -> Grid:
     """``grid`` with its springs' fabrics (`spring_materials`) and their areas."""
     area = np.asarray(area, dtype=float)
@@ -504,6 +614,7 @@ __all__ = [
     "SpringMaterials",
     "band_circumference",
     "band_heights",
+    "garment_grid",
     "row_zones",
     "share_of",
     "spring_materials",

@@ -41,9 +41,8 @@ from cloth.garment.grid import FIXED, FREE, SLIDING, WEFT, Grid, build_grid
 from cloth.garment.pieces import (
     band_circumference,
     band_heights,
+    garment_grid,
     row_zones,
-    spring_materials,
-    tributary_boundaries,
     with_pieces,
 )
 from cloth.garment.rows import row_heights
@@ -282,7 +281,7 @@ def predeform(
         **moduli,
     )
     if pieces.any:
-        grid = _with_pieces(grid, case, fabric, fabrics or {}, cut_heights, zone)
+        grid = garment_grid(grid, case, fabric, fabrics or {}, cut_heights, zone)
     offset = garment.offset
     x = wrap(body, hulls, heights, n, offset)
     constraint = np.full(grid.n_nodes, FREE, dtype=np.int8)
@@ -334,36 +333,6 @@ def predeform(
             **{f"set_strain_{d}": s for d, s in worn.items()},
         },
     )
-
-
-def _with_pieces(
-    grid: Grid,
-    case: Case,
-    fabric: Fabric,
-    fabrics: Mapping[str, Fabric],
-    cut_heights: NDArray[np.float64],
-    zone: NDArray,
-) -> Grid:
-    """``grid`` with the fabrics of its bands, panels, layers and seams (`cloth.garment.pieces`)."""
-    garment = case.garment
-    pieces = garment.pieces
-    missing = [name for name in pieces.materials if name not in fabrics and name != case.material]
-    if missing:
-        raise ValueError(f"predeform needs the garment's fabrics {missing} (fabrics=...)")
-    seen = {name: grid_fabric(f, garment.around) for name, f in fabrics.items()}
-    seen[case.material] = grid_fabric(fabric, garment.around)
-    rest_v = grid.rest_uv[:: grid.n, 1]
-    boundary = tributary_boundaries(cut_heights, rest_v, zone, pieces, garment.bottom, garment.top)
-    materials, area = spring_materials(
-        grid, pieces, seen, case.material, cut_heights, zone, boundary
-    )
-    log.info(
-        "predeform: a garment of %d fabrics (%s), %d curves for its springs",
-        len(materials.names),
-        ", ".join(materials.names),
-        len(materials.curves),
-    )
-    return with_pieces(grid, materials, area)
 
 
 def _table_attr(pattern: BodyCut | TableCut) -> dict[str, str]:

@@ -44,6 +44,7 @@ from numpy.typing import NDArray
 from cloth.bodies import Body
 from cloth.case import Settings
 from cloth.garment.grid import FIXED, SLIDING, WEFT, Grid, build_grid
+from cloth.garment.pieces import garment_grid
 from cloth.garment.state import State, grid_fabric
 from cloth.solvers.common import Diverged
 from cloth.solvers.problem import Problem
@@ -92,10 +93,26 @@ def coarse_state(state: State, around: int, rows: NDArray[np.intp]) -> State:
         closed=True,
         **state.moduli,
     )
+    attrs = dict(state.attrs)
+    for key in ("cut_height", "row_band"):  # the kept rows' own
+        values = state.row_values(key)
+        if values is not None:
+            attrs[key] = values[rows].tolist()
+    if grid.materials is not None:  # a garment of several fabrics: its pieces on this level too
+        zone = state.row_values("row_band")
+        zone = np.full(rows.size, -1) if zone is None else zone[rows].astype(int)
+        coarse = garment_grid(
+            coarse,
+            state.case,
+            state.fabric,
+            state.fabrics,
+            state.row_values("cut_height")[rows],
+            zone,
+        )
     constraint = np.repeat(state.constraint.reshape(grid.m, n)[rows, 0], around)
     x = interpolate(state.x, grid, coarse)
     contact = np.zeros(coarse.n_nodes, dtype=np.int8)
-    return replace(state, grid=coarse, x=x, constraint=constraint, on_body=contact)
+    return replace(state, grid=coarse, x=x, constraint=constraint, on_body=contact, attrs=attrs)
 
 
 def interpolate(x: NDArray[np.float64], source: Grid, target: Grid) -> NDArray[np.float64]:
