@@ -4,6 +4,7 @@ on a convex section; the composite curves against their definitions; the files; 
 
 from __future__ import annotations
 
+import csv
 import functools
 import subprocess
 import sys
@@ -247,6 +248,16 @@ def test_a_band_presses_its_own_tension_over_r(tmp_path):
         beside = names.index("waistband_beside")
         expected = tension("powernet", strain_at("powernet", 0) * 0 + 1 / 0.8 - 1) / R
         assert float(ds.pressure_mean[beside]) == pytest.approx(expected, rel=5e-3)
+    # the band against the fabric beside it: their tensions' ratio, summary.csv as result.nc
+    expected = tension("elastic25", e) / tension("powernet", 1 / 0.8 - 1)
+    assert float(fine["band_ratio"].values[0]) == pytest.approx(expected, rel=1e-2)
+    rows = {r["landmark"]: r for r in csv.DictReader((tmp_path / "fine/out/summary.csv").open())}
+    assert float(rows["waistband"]["band_ratio"]) == pytest.approx(
+        float(fine["pressure_mean"][list(fine.landmark.values).index("waistband")])
+        / float(fine["pressure_mean"][list(fine.landmark.values).index("waistband_beside")]),
+        rel=1e-5,  # summary.csv's six digits
+    )
+    assert rows["waistband_beside"]["band_ratio"] == ""
     for line in ("waistband", "waistband_beside"):
         k = list(coarse.landmark.values).index(line)
         j = list(fine.landmark.values).index(line)
@@ -490,3 +501,90 @@ def test_design_finds_a_bands_reduction_for_its_target():
     assert result.reduction() == 0.2  # the body's cut, untouched
     exact = brentq(lambda r: tension("elastic25", 1 / (1 - r) - 1) / R - target, 0.0, 0.5)
     assert result.band_reductions()["waistband"] == pytest.approx(exact, rel=5e-3)
+
+
+def test_a_gripper_band_holds_with_its_own_friction_and_no_other_row_does():
+    """A silicone gripper (a band's own friction, mu 1.5) at the bottom of a tube on a cone,
+    the case frictionless: the skin's friction acts on the band's rows alone, within Coulomb's
+    bound mu lambda at every node (lambda the lagged normal force)."""
+    from dataclasses import replace
+
+    case = {
+        "material": "powernet",
+        "body": {"cone": {"radius_bottom": 0.13, "radius_top": 0.09, "bottom": 0.0, "top": 0.5}},
+        "garment": {
+            "bottom": 0.1,
+            "top": 0.4,
+            "reduction": 0.15,
+            "grid": [32, 16],
+            "edges": "sliding",
+            "bands": [
+                {
+                    "name": "gripper",
+                    "material": "elastic25",
+                    "at": "bottom",
+                    "width": 0.03,
+                    "reduction": 0.05,
+                    "friction": 1.5,
+                }
+            ],
+        },
+        "solver": {"method": "newton", "tolerance": 1e-8, "max_iterations": 200},
+    }
+    state = initial_state(case)
+    assert state.case.solver.continuation is False  # friction follows the path from the wrap
+    body, _ = body_from_config(state.case.body.block)
+    result = relax(state, body, replace(state.case.solver, progress=False))
+    assert result.converged
+    grid = state.grid
+    band = np.repeat(np.asarray(state.row_values("row_band")) >= 0, grid.n)
+    ev = result.final
+    force = np.linalg.norm(ev.friction, axis=1)
+    assert np.all(force[~band] == 0.0)
+    assert force[band].max() > 0  # it holds: the cone pulls the tube down
+    problem_friction = relax_problem_friction(state, body, result)
+    bound = 1.5 * problem_friction.normal_force
+    assert np.all(force[band] <= bound[band] * (1 + 1e-9) + 1e-12)
+
+
+def relax_problem_friction(state, body, result):
+    """The friction model at the result's lagged normal forces (the skin's, built as relax
+    builds it, then lagged to the equilibrium)."""
+    from cloth.contact.skin import skin_models
+
+    _, friction = skin_models(state.skin, state.grid, state.x)
+    push = np.maximum(result.final.push, 0.0)
+    return friction.lagged(push, result.final.normal)[0]
+
+
+def test_a_robust_design_holds_a_band_for_every_wearer():
+    """Two wearers, cylinders of radius 0.098 and 0.102 m, wear one band cut for 0.10 m: the
+    robust design moves the band's reduction alone to centre both in 15-25 mmHg, where the
+    closed form P_w = T_band(2 pi R_w / c - 1) / R_w puts the middle of the two at 20 mmHg."""
+    from cloth.files.body import body_from_record
+    from cloth.results.pressure import MMHG
+    from cloth.results.targets import Target
+    from cloth.stages.robust import robust_design
+
+    cut_for = {"cylinder": {"radius": R, "bottom": 0.0, "top": 0.5}}
+    states, bodies = {}, {}
+    for name, radius in (("small", 0.098), ("large", 0.102)):
+        case = band_case(96, 16)
+        case["body"] = {"cylinder": {"radius": radius, "bottom": 0.0, "top": 0.5}}
+        case["garment"]["pattern"] = {"body": cut_for, "place": "none"}
+        states[name] = initial_state(case)
+        bodies[name] = body_from_record(states[name].body)
+    target = Target("waistband", 20 * MMHG, (15 * MMHG, 25 * MMHG))
+    result = robust_design(states, bodies, [target], "test")
+    assert result.knots == () and result.bands_designed == ("waistband",)
+    assert result.t <= 1.0 and result.shortfall is None
+    r = result.band_reductions()["waistband"]
+
+    def pressure(reduction: float, radius: float) -> float:
+        c = (1 - reduction) * 2 * np.pi * R
+        return tension("elastic25", 2 * np.pi * radius / c - 1) / radius
+
+    exact = brentq(
+        lambda x: pressure(x, 0.098) + pressure(x, 0.102) - 2 * 20 * MMHG, 0.0, 0.4, xtol=1e-12
+    )
+    assert r == pytest.approx(exact, abs=2e-3)

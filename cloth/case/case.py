@@ -178,7 +178,7 @@ class Case:
     @property
     def skin(self) -> Skin:
         """The skin models the case asks for: its body's tissue and its contact."""
-        return Skin(self.body.tissue, self.contact)
+        return Skin(self.body.tissue, self.contact, self.garment.pieces.grip)
 
     def to_dict(self) -> dict[str, Any]:
         """The mapping the case was built from (validated, defaults filled), a fresh copy."""
@@ -212,11 +212,12 @@ class Case:
         # the fast path by default where it is one answer: Newton without friction (with the
         # tension field the energy is convex, so continuation ends where plain Newton does;
         # docs/validation.md, "Path agreement"); friction follows the path from the wrap
-        fast = block.get("method", "newton") == "newton" and not contact.friction
+        grip = garment.pieces.grip  # a band's own friction (a gripper) is friction too
+        fast = block.get("method", "newton") == "newton" and not contact.friction and not grip
         block.setdefault("continuation", fast)
         block.setdefault("reuse", fast)
         solver = _settings(block)
-        Skin(tissue, contact).check_solver(solver.method, solver.continuation)
+        Skin(tissue, contact, grip).check_solver(solver.method, solver.continuation)
         garment.pieces.check(garment.bottom, garment.top, list(data.get("landmarks") or {}))
         return cls(
             material=str(data["material"]),

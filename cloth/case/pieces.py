@@ -46,7 +46,8 @@ ANGLE_TOLERANCE = 1e-9
 class Band:
     """A band: rows of ``material`` of ``width`` (m) at ``at`` ('top', 'bottom' or the height
     of its middle, m), cut with its own ``reduction`` (1) or ``circumference`` (m), of
-    ``layers`` plies (1, or 2 for a folded welt)."""
+    ``layers`` plies (1, or 2 for a folded welt), with its own skin ``friction`` (a silicone
+    gripper; None: the case's contact friction)."""
 
     name: str
     material: str
@@ -55,6 +56,7 @@ class Band:
     reduction: float | None = None
     circumference: float | None = None
     layers: int = 1
+    friction: float | None = None
 
     def span(self, bottom: float, top: float) -> tuple[float, float]:
         """The band's lower and upper edge (m) on a garment from ``bottom`` to ``top``."""
@@ -135,6 +137,11 @@ class Pieces:
     def any(self) -> bool:
         """Whether the garment has more than its one fabric."""
         return bool(self.bands or self.panels or self.layers)
+
+    @property
+    def grip(self) -> float:
+        """The largest friction coefficient a band gives its rows (1; 0 for none)."""
+        return max((b.friction or 0.0 for b in self.bands), default=0.0)
 
     @property
     def materials(self) -> tuple[str, ...]:
@@ -262,6 +269,7 @@ def _band(block: Mapping[str, Any], k: int) -> Band:
         reduction=None if reduction is None else float(reduction),
         circumference=None if circumference is None else float(circumference),
         layers=int(block.get("layers", 1)),
+        friction=None if block.get("friction") is None else float(block["friction"]),
     )
 
 

@@ -141,10 +141,13 @@ class Skin:
 
     tissue: Tissue | None = None
     contact: Contact = field(default_factory=Contact)
+    #: The largest friction coefficient a garment's band gives its rows (a gripper; 0: none;
+    #: `cloth.case.pieces.Band.friction`).
+    grip: float = 0.0
 
     @property
     def friction(self) -> bool:
-        return float(self.contact.friction) != 0.0
+        return float(self.contact.friction) != 0.0 or self.grip != 0.0
 
     @property
     def present(self) -> bool:

@@ -40,7 +40,7 @@ class Friction:
     ``origin`` ((N, 3), m: the wrapped state), lagged normal forces ``normal_force`` ((N,), N)
     and normals ``normal`` ((N, 3), unit)."""
 
-    mu: float
+    mu: float | NDArray[np.float64]  # one coefficient, or one per node ((N,), a band's gripper)
     eps: float
     origin: NDArray[np.float64]
     normal_force: NDArray[np.float64]

@@ -30,5 +30,16 @@ def skin_models(
     if skin.friction:
         eps = skin.contact.slip(float(grid.rest_length.min()))
         zeros = np.zeros(grid.n_nodes)
-        friction = Friction(float(skin.contact.friction), eps, x.copy(), zeros, np.zeros_like(x))
+        friction = Friction(node_friction(skin, grid), eps, x.copy(), zeros, np.zeros_like(x))
     return layer, friction
+
+
+def node_friction(skin: Skin, grid: Grid) -> float | NDArray[np.float64]:
+    """The friction coefficient at each node ((N,), 1): the case's contact friction, a band's
+    own on its rows (a gripper, `cloth.case.pieces.Band.friction`); one number where every
+    node has the case's."""
+    mu = float(skin.contact.friction)
+    rows = getattr(grid.materials, "row_friction", None)
+    if rows is None or not np.isfinite(rows).any():
+        return mu
+    return np.repeat(np.where(np.isfinite(rows), rows, mu), grid.n)

@@ -126,6 +126,9 @@ def pieces_attrs(grid: Grid, fabrics: Mapping[str, Fabric]) -> dict[str, str]:
         "fabric_thickness": json.dumps(list(materials.fabric_thickness)),
         "seam_share": json.dumps(materials.seams.tolist()),
         "row_split": json.dumps(materials.split.tolist()),
+        "row_friction": json.dumps(
+            [None if not np.isfinite(f) else float(f) for f in materials.row_friction]
+        ),
     }
     for k, name in enumerate(materials.names):
         if name in fabrics:
@@ -157,6 +160,11 @@ def pieces_from_dataset(ds: xr.Dataset) -> tuple[SpringMaterials | None, dict[st
         np.asarray(json.loads(ds.attrs.get("seam_share", "[]")), dtype=float),
         tuple(json.loads(ds.attrs["fabric_thickness"])),
         np.asarray(json.loads(ds.attrs["row_split"]), dtype=float),
+        np.asarray(
+            [np.nan if f is None else f for f in json.loads(ds.attrs.get("row_friction", "[]"))]
+            or np.full(int(ds.attrs["m"]), np.nan),
+            dtype=float,
+        ),
     )
     fabrics = {}
     for k, name in enumerate(names):

@@ -31,6 +31,7 @@ import xarray as xr
 
 from cloth.case import Case
 from cloth.case.judge import Judge
+from cloth.case.pieces import BESIDE
 from cloth.case.reading import Reading
 from cloth.files.levels import estimate_columns
 from cloth.files.material import fabric_variables
@@ -170,6 +171,7 @@ def result_dataset(
     variables.update(fabric_variables(state.fabric))
     variables.update(pieces_variables(grid, state.fabrics))
     variables.update(seam_variables(grid, state.x))
+    variables.update(band_ratio_variables(state, marks))
     coords = {
         "row": relaxed["row"].variable,
         "col": relaxed["col"].variable,
@@ -295,6 +297,28 @@ def pattern_variables(state: State) -> dict[str, xr.Variable]:
     return out
 
 
+def band_ratio_variables(state: State, marks: list[Landmark]) -> dict[str, xr.Variable]:
+    """``band_ratio`` ((band,), 1): each band's mean pressure over the line's beside it
+    (`cloth.case.pieces.BESIDE`): above 1 a band presses harder than the fabric next to it (a
+    stocking's top band as a tourniquet); NaN where the line beside is off the garment."""
+    bands = state.case.garment.pieces.bands
+    if not bands:
+        return {}
+    mean = {m.name: m.mean for m in marks}
+    ratio = [
+        mean.get(b.name, np.nan) / mean.get(b.name + BESIDE, np.nan)
+        if mean.get(b.name + BESIDE)
+        else np.nan
+        for b in bands
+    ]
+    return {
+        "band_ratio": variable(
+            "band", np.asarray(ratio, dtype=float), "1", "band mean pressure over the line beside's"
+        ),
+        "band": variable("band", np.array([b.name for b in bands]), None, "garment band"),
+    }
+
+
 def summary_rows(ds: xr.Dataset, case_name: str) -> list[dict[str, object]]:
     """summary.csv's rows: per girth line its pressures, tension, error estimate and the case's
     judging (`cloth.results.judging`; the default judge for a result without its case)."""
@@ -322,6 +346,11 @@ def summary_rows(ds: xr.Dataset, case_name: str) -> list[dict[str, object]]:
             )
             if name in ds
         }
+        if "band_ratio" in ds:  # a garment's bands: each band's line over the line beside
+            bands = [str(b) for b in ds["band"].values]
+            extra["band_ratio"] = (
+                float(ds["band_ratio"].values[bands.index(str(name))]) if str(name) in bands else ""
+            )
         rows.append(
             {
                 "case": case_name,

@@ -198,6 +198,7 @@ def state_from_dataset(ds: xr.Dataset, source: str = "state") -> State:
         "fabric_thickness",
         "seam_share",
         "row_split",
+        "row_friction",
     }
     return State(
         grid=grid,

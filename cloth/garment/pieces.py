@@ -87,6 +87,9 @@ class SpringMaterials:
     seams: NDArray[np.float64]
     fabric_thickness: tuple[float, ...]
     split: NDArray[np.float64]
+    #: (m,) float, 1: a band row's own skin friction (`cloth.case.pieces.Band.friction`),
+    #: NaN where the case's contact friction holds.
+    row_friction: NDArray[np.float64] | None = None
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "curve_set", CurveSet(self.curves, self.index))
@@ -475,6 +478,12 @@ def spring_materials(
         np.zeros(0) if seams is None else seams,
         tuple(garment.thickness(name) for name in names),
         split,
+        np.array(
+            [
+                np.nan if z < 0 or pieces.bands[z].friction is None else pieces.bands[z].friction
+                for z in zone
+            ]
+        ),
     )
     return materials, area
 

@@ -213,7 +213,7 @@ def design(
             "body.tissue"
             if state.skin.tissue is not None
             else "contact.friction"
-            if state.skin.contact.friction > 0
+            if state.skin.friction
             else "body.surface"
         )
         raise InputError(
@@ -236,19 +236,15 @@ def design(
     goal = np.array([next(t.pressure for t in targets if t.line == name) for name in order])
     graded = not state.case.garment.reduction_profile.uniform
     # a target on a band's line is met by the band's own reduction (cloth.case.pieces)
-    band_of = {
-        b.name: k for k, b in enumerate(state.case.garment.pieces.bands) if b.reduction is not None
-    }
-    bands = tuple(sorted({band_of[t.line] for t in targets if t.line in band_of}))
-    body_targets = [t for t in targets if t.line not in band_of]
-    knots = bool(body_targets) or not bands
+    bands, knots = band_controls(state, targets)
     if knots:
-        state = _start(state, body, body_targets, source)
-    values = _controls(state, knots, bands)
+        banded = {state.case.garment.pieces.bands[k].name for k in bands}
+        state = _start(state, body, [t for t in targets if t.line not in banded], source)
+    values = controls_of(state, knots, bands)
     n_knots = len(values) - len(bands)
 
     def sensitivity(state: State, result: Result) -> Sensitivity:
-        return sensitivities(state, body, result.final, lines, result.factor, bands, knots)
+        return line_sensitivities(state, body, result, lines, bands, knots)
 
     result = relax(state, body, settings)
     state = state.with_positions(result.final.x)
@@ -273,11 +269,7 @@ def design(
         if held or np.max(np.abs(step)) <= STALLED:  # the bounds hold the knots where they are
             break
         values = values + step
-        moved = state
-        if n_knots:
-            moved = with_profile(moved, values[:n_knots])
-        if bands:
-            moved = with_bands(moved, dict(zip(bands, values[n_knots:].tolist(), strict=True)))
+        moved = with_controls(state, values, knots, bands)
         result = relax(moved, body, settings)
         solves += 1
         state = moved.with_positions(result.final.x)
@@ -301,7 +293,30 @@ def design(
     )
 
 
-def _controls(state: State, knots: bool, bands: tuple[int, ...]) -> NDArray[np.float64]:
+def band_controls(state: State, targets: list[Target]) -> tuple[tuple[int, ...], bool]:
+    """The bands (indices) whose reductions a design moves, those with a target on their line
+    (and a reduction of their own), and whether the profile's knots are controls too (a
+    target on another line, or no band targeted)."""
+    band_of = {
+        b.name: k for k, b in enumerate(state.case.garment.pieces.bands) if b.reduction is not None
+    }
+    bands = tuple(sorted({band_of[t.line] for t in targets if t.line in band_of}))
+    return bands, any(t.line not in band_of for t in targets) or not bands
+
+
+def with_controls(
+    state: State, values: NDArray[np.float64], knots: bool, bands: tuple[int, ...]
+) -> State:
+    """``state`` recut with the control ``values``: the knots' (where ``knots``), then
+    ``bands``' reductions (`cloth.garment.predeform.with_profile`, `with_bands`)."""
+    n_knots = len(values) - len(bands)
+    moved = with_profile(state, values[:n_knots]) if knots and n_knots else state
+    if bands:
+        moved = with_bands(moved, dict(zip(bands, values[n_knots:].tolist(), strict=True)))
+    return moved
+
+
+def controls_of(state: State, knots: bool, bands: tuple[int, ...]) -> NDArray[np.float64]:
     """The design's control values: the profile's knot values (where ``knots``), then the
     reductions of ``bands``."""
     garment = state.case.garment
@@ -424,9 +439,16 @@ def _lines_left(jacobian: NDArray, pinned: NDArray[np.bool_]) -> NDArray[np.bool
 
 
 def line_sensitivities(
-    state: State, body: Body, result: Result, lines: dict[str, float]
+    state: State,
+    body: Body,
+    result: Result,
+    lines: dict[str, float],
+    bands: tuple[int, ...] = (),
+    knots: bool = True,
 ) -> Sensitivity:
-    return sensitivities(state, body, result.final, lines, result.factor)
+    """The lines' means and their derivatives in the knots (where ``knots``) and ``bands``'
+    reductions at ``result``'s equilibrium (`cloth.results.sensitivity.sensitivities`)."""
+    return sensitivities(state, body, result.final, lines, result.factor, bands, knots)
 
 
 def _shortfall(

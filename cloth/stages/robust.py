@@ -29,13 +29,20 @@ from scipy.optimize import linprog
 from cloth.bodies import Body
 from cloth.case import Case
 from cloth.errors import InputError
-from cloth.garment.predeform import with_profile
 from cloth.garment.state import State
 from cloth.results.landmarks import landmark_heights
 from cloth.results.pressure import MMHG
 from cloth.results.targets import Target
 from cloth.solvers.relax import relax
-from cloth.stages.design import BOUNDS, lab_caps, line_sensitivities, repredeform
+from cloth.stages.design import (
+    BOUNDS,
+    band_controls,
+    controls_of,
+    lab_caps,
+    line_sensitivities,
+    repredeform,
+    with_controls,
+)
 
 log = logging.getLogger(__name__)
 
@@ -64,10 +71,31 @@ class Robust:
     rounds: int
     solves: int
     shortfall: str | None = None
+    #: The bands (`cloth.case.pieces`) whose reductions were designed too, by name; their values
+    #: follow the knots' in ``values``.
+    bands_designed: tuple[str, ...] = ()
+    #: The case's own ``garment.reduction``, kept where the knots were not designed.
+    case_reduction: object = None
 
-    def reduction(self) -> dict[str, float]:
-        """The designed profile as a case's ``garment.reduction``."""
-        return dict(zip(self.knots, self.values.tolist(), strict=True))
+    def reduction(self) -> float | dict[str, float]:
+        """The designed profile as a case's ``garment.reduction`` (the case's own where the
+        bands alone were designed)."""
+        if not self.knots:
+            return self.case_reduction
+        return dict(zip(self.knots, self.values[: len(self.knots)].tolist(), strict=True))
+
+    def band_reductions(self) -> dict[str, float]:
+        """The designed bands' reductions, by name."""
+        return dict(zip(self.bands_designed, self.values[len(self.knots) :].tolist(), strict=True))
+
+    def apply(self, data: dict) -> dict:
+        """The case mapping ``data`` with the design's profile and bands' reductions."""
+        data["garment"]["reduction"] = self.reduction()
+        reductions = self.band_reductions()
+        for band in data["garment"].get("bands") or []:
+            if band["name"] in reductions:
+                band["reduction"] = reductions[band["name"]]
+        return data
 
 
 def measure(means: NDArray, bands: NDArray) -> float:
@@ -127,12 +155,17 @@ def robust_design(
         [by_line[n].band or (by_line[n].pressure - half, by_line[n].pressure + half) for n in order]
     )
     profile = first.case.garment.reduction_profile
-    if profile.uniform:  # a knot per target line, all at the case's reduction
+    # a band's line is held by the band's own reduction (cloth.case.pieces)
+    band_index, knots = band_controls(first, targets)
+    banded = {first.case.garment.pieces.bands[k].name for k in band_index}
+    body_lines = [n for n in order if n not in banded]
+    if profile.uniform and knots:  # a knot per target line, all at the case's reduction
         data = first.case.to_dict()
-        data["garment"]["reduction"] = dict.fromkeys(order, float(profile.values[0]))
+        data["garment"]["reduction"] = dict.fromkeys(body_lines, float(profile.values[0]))
         case = Case.from_dict(data, source)
         states = {n: repredeform(s, case, bodies[n], source) for n, s in states.items()}
-    values = np.asarray(states[names[0]].case.garment.reduction_profile.values, dtype=float)
+    values = controls_of(states[names[0]], knots, band_index)
+    n_knots = len(values) - len(band_index)
     settings = replace(first.case.solver, progress=False)
     solves, rounds, t = 0, 0, np.inf
     while True:
@@ -145,7 +178,7 @@ def robust_design(
             states[name] = state
             heights = landmark_heights(state)
             lines = {n: heights[n] for n in order}
-            sens = line_sensitivities(state, bodies[name], result, lines)
+            sens = line_sensitivities(state, bodies[name], result, lines, band_index, knots)
             if len(sens.lines) != len(order):
                 raise InputError(
                     f"wearer {name}: a target line is beyond her garment "
@@ -155,7 +188,10 @@ def robust_design(
                 )
             means.append(sens.means)
             jacobians.append(sens.jacobian)
-            caps.append(lab_caps(state, result, heights))
+            cap = np.full(len(values), BOUNDS[1])
+            if n_knots:
+                cap[:n_knots] = lab_caps(state, result, heights)
+            caps.append(cap)
         means_w, jac_w = np.array(means), np.array(jacobians)
         t = measure(means_w, bands)
         rounds += 1
@@ -173,10 +209,11 @@ def robust_design(
             break
         log.info("robust design: step %s, linearised t %.3f", np.round(step, 5).tolist(), predicted)
         values = values + step
-        states = {n: with_profile(s, values) for n, s in states.items()}
+        states = {n: with_controls(s, values, knots, band_index) for n, s in states.items()}
     shortfall = None if t <= 1.0 else _shortfall(order, bands, names, means_w)
+    last = states[names[0]]
     return Robust(
-        knots=states[names[0]].case.garment.reduction_profile.keys,
+        knots=last.case.garment.reduction_profile.keys if knots else (),
         values=values,
         lines=tuple(order),
         bands=bands,
@@ -186,6 +223,8 @@ def robust_design(
         rounds=rounds,
         solves=solves,
         shortfall=shortfall,
+        bands_designed=tuple(last.case.garment.pieces.bands[k].name for k in band_index),
+        case_reduction=last.case.to_dict()["garment"]["reduction"],
     )
 
 

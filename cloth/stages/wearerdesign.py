@@ -64,8 +64,7 @@ def robust_files(
         bodies[name] = body_from_record(states[name].body)
     result = robust_design(states, bodies, targets, str(case_path))
     output.mkdir(parents=True, exist_ok=True)
-    data = case.to_dict()
-    data["garment"]["reduction"] = result.reduction()
+    data = result.apply(case.to_dict())
     designed = write_case(data, output / "case.yaml", base_dir)
     confirmed = run_wearers(designed, output / "confirmed", {}, folder)
     rows = robust_rows(result, confirmed)
@@ -122,7 +121,7 @@ def robust_rows(result: Robust, confirmed: xr.Dataset) -> list[dict[str, object]
                 else round(float(np.nanmax(errors)), 4),
                 "met": int(bool(np.all((values >= low) & (values <= high)))),
                 "t": round(result.t, 4),
-                "reduction": " ".join(f"{k}={v:.5f}" for k, v in result.reduction().items()),
+                "reduction": _reduction_text(result),
                 "wearers": len(wearers),
                 "equilibria": result.solves + len(wearers),
             }
@@ -131,3 +130,16 @@ def robust_rows(result: Robust, confirmed: xr.Dataset) -> list[dict[str, object]
 
 
 __all__ = ["robust_files", "robust_rows"]
+
+
+def _reduction_text(result) -> str:
+    """The designed reductions as robust.csv gives them: ``knot=value`` (and ``band_NAME=value``)
+    separated by spaces; a uniform reduction the loop left alone as its one number."""
+    reduction = result.reduction()
+    parts = (
+        [f"{k}={v:.5f}" for k, v in reduction.items()]
+        if isinstance(reduction, dict)
+        else [f"{float(reduction):.5f}"]
+    )
+    parts += [f"band_{k}={v:.5f}" for k, v in result.band_reductions().items()]
+    return " ".join(parts)
