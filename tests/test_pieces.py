@@ -588,3 +588,75 @@ def test_a_robust_design_holds_a_band_for_every_wearer():
         lambda x: pressure(x, 0.098) + pressure(x, 0.102) - 2 * 20 * MMHG, 0.0, 0.4, xtol=1e-12
     )
     assert r == pytest.approx(exact, abs=2e-3)
+
+
+def test_a_panels_width_is_designed_for_a_target():
+    """A control-net front panel among light-net sides on a cylinder, butt seams: the width
+    that puts 16 mmHg on the line is the closed form's share s, from
+    s (1 + e_c(T)) + (1 - s) (1 + e_l(T)) = 2 pi R / C0 with T = P R, within 0.5 degree."""
+    from cloth.results.pressure import MMHG
+    from cloth.results.targets import Target
+    from cloth.stages.paneldesign import panel_design
+
+    panels = [
+        {"material": "controlnet", "from_deg": -40, "to_deg": 40},
+        {"material": "lightnet", "from_deg": 40, "to_deg": 320},
+    ]
+    case = cylinder_case({"panels": panels, "seams": {"allowance_mm": 0}}, n=128, m=6)
+    case["landmarks"] = {"middle": 0.25}
+    state = initial_state(case)
+    body, _ = body_from_config(state.case.body.block)
+    goal = 16 * MMHG
+    result = panel_design(state, body, Target("middle", goal), 0, tolerance=0.02 * MMHG)
+    assert result.shortfall is None and result.met
+    grid = state.grid
+    rest = float(grid.rest_length[grid.family_slices[WEFT]].reshape(grid.m, grid.n)[2].sum())
+    t = goal * R
+    share = (2 * np.pi * R / rest - 1 - strain_at("lightnet", t)) / (
+        strain_at("controlnet", t) - strain_at("lightnet", t)
+    )
+    assert result.width == pytest.approx(360 * share, abs=0.5)
+    assert (result.from_deg, result.to_deg) == pytest.approx((-result.width / 2, result.width / 2))
+    sides = result.state.case.garment.pieces.panels[1]
+    assert sides.to_deg - sides.from_deg == pytest.approx(360 - result.width)
+
+
+def test_the_design_command_designs_a_panels_width(tmp_path):
+    """``cloth design CASE --target middle=16 --panel 0``: the designed case, its iterations,
+    its confirmation from scratch and design_confirmed.csv, the confirmed line within the
+    tolerance of its target."""
+    panels = [
+        {"material": "controlnet", "from_deg": -40, "to_deg": 40},
+        {"material": "lightnet", "from_deg": 40, "to_deg": 320},
+    ]
+    case = cylinder_case({"panels": panels, "seams": {"allowance_mm": 0}}, n=64, m=6)
+    case["landmarks"] = {"middle": 0.25}
+    path = tmp_path / "case.yaml"
+    path.write_text(yaml.safe_dump(case))
+    out = tmp_path / "design"
+    run = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "cloth",
+            "design",
+            str(path),
+            "--target",
+            "middle=16",
+            "--panel",
+            "0",
+            "-o",
+            str(out),
+        ],
+        capture_output=True,
+        text=True,
+    )
+    assert run.returncode == 0, run.stderr[-2000:]
+    (row,) = list(csv.DictReader((out / "design_confirmed.csv").open()))
+    assert abs(float(row["confirmed_mmHg"]) - 16.0) <= float(row["tolerance_mmHg"])
+    designed = yaml.safe_load((out / "case.yaml").read_text())
+    front = designed["garment"]["panels"][0]
+    assert front["to_deg"] - front["from_deg"] == pytest.approx(
+        float(row["panel_width_deg"]), abs=1e-3
+    )
+    assert float(row["panel_width_deg"]) != 80.0  # moved from the case's

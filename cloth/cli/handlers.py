@@ -382,6 +382,20 @@ def design(args: argparse.Namespace) -> int:
             f"must be a positive number of mmHg, got {args.tolerance}", field="--tolerance"
         )
     targets = [Target.parse(text) for text in args.target]
+    if args.panel is not None:
+        from cloth.stages.paneldesign import panel_files
+
+        if len(args.input) > 1 or args.sizes is not None or args.wearers is not None:
+            raise InputError("--panel designs one case's panel", field="--panel")
+        if len(targets) != 1 or targets[0].band is not None:
+            raise InputError(
+                "--panel meets one target, LINE=PRESSURE (a panel's width is one control)",
+                field="--target",
+            )
+        panel_files(
+            first, targets[0], args.panel, args.output, args.tolerance * MMHG, args.base_dir
+        )
+        return 0
     if args.wearers is not None:
         from cloth.stages.wearerdesign import robust_files
 

@@ -525,6 +525,13 @@ def build_parser() -> argparse.ArgumentParser:
         "wearer inside every band, --target LINE=LOW:HIGH (docs/outputs.md, 'Robust design')",
     )
     de.add_argument(
+        "--panel",
+        type=int,
+        metavar="K",
+        help="with a case of panels: meet the one --target by panel K's width (0: the first "
+        "listed), about its centre, its neighbours' fabrics held (docs/how-to/pieces.md)",
+    )
+    de.add_argument(
         "--report-unmet",
         action="store_true",
         help="with --wearers: a band not met is reported in robust.csv only, exit status 0 "

@@ -29,7 +29,7 @@ from numpy.typing import NDArray
 
 from cloth.case.pieces import Pieces
 from cloth.files.pattern import CUTS, Pattern
-from cloth.garment.pieces import row_zones, share_of
+from cloth.garment.layout import row_zones, share_of
 
 
 @dataclass(frozen=True)

@@ -37,6 +37,7 @@ from cloth.errors import InputError
 from cloth.files.material import fabric_from_dataset, fabric_variables
 from cloth.files.pieces import pieces_attrs, pieces_from_dataset, pieces_variables
 from cloth.garment.grid import FAMILIES, Grid, StressStrainCurve
+from cloth.garment.layout import Layout
 from cloth.garment.state import State, grid_fabric
 from cloth.io import flag_variable, global_attrs, node_variable, read_netcdf, to_attr, variable
 
@@ -171,10 +172,13 @@ def state_from_dataset(ds: xr.Dataset, source: str = "state") -> State:
     materials, fabrics = pieces_from_dataset(ds)
     if materials is not None:
         grid = replace(grid, materials=materials)
+    layout = None
     x = np.stack([ds[c].values.ravel() for c in ("x", "y", "z")], axis=1).astype(np.float64)
     if "case" not in ds.attrs:
         raise InputError("the file has no case; re-run the stage that made it", source, "case")
     case = Case.from_dict(json.loads(ds.attrs["case"]), source)
+    if materials is not None:
+        layout = Layout.of(case)
     skip = {
         "Conventions",
         "title",
@@ -215,6 +219,7 @@ def state_from_dataset(ds: xr.Dataset, source: str = "state") -> State:
             k: v for k, v in ds.attrs.items() if k not in skip and not re.match(r"fabric\d+_", k)
         },
         fabrics=fabrics,
+        layout=layout,
     )
 
 

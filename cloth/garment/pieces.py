@@ -4,17 +4,10 @@ A garment of bands, panels, layers and seams (`cloth.case.pieces`) stays one n x
 weft and warp spring carries a curve made of the fabrics it stands for
 (`cloth.materials.composite`), evaluated for all springs at once (`cloth.materials.curveset`).
 
-**Rows and bands.** A row belongs to a band when its cut height lies within the band; a band
-that would hold no row at a coarse grid has the nearest interior row moved to its middle
-(`band_heights`), so every band holds a row at every grid. A band's rows are cut with its own
-reduction. Between a body row and a band row the boundary of their tributary strips is the
-band's edge (mapped to the rest coordinate v), not their midpoint, so a band's rows stand for
-exactly its width of fabric; the warp spring between them is the two fabrics in series, split at
-that edge.
+Rows and where pieces lie around are `cloth.garment.layout`'s. Between a body row and a band
+row the warp spring is the two fabrics in series, split at the band's edge.
 
-**Around.** A point of a row at rest coordinate u is at the share s = u / W of its rest
-circumference W from the centre back (where the wrap starts, `cloth.garment.predeform`); its
-angle from the centre front is 360 s - 180 degrees. A weft spring spans [i, i + 1] / n of the
+**Around.** A weft spring spans [i, i + 1] / n of the
 row: the panels' and seam strips' pieces of that span in series (each piece the panel's fabric,
 or the seam: the two fabrics in parallel over the allowance, or the seam strip's curve), with
 any layer over a piece in parallel, weighted by the share of the row's tributary strip it
@@ -36,10 +29,10 @@ from dataclasses import dataclass, replace
 import numpy as np
 from numpy.typing import NDArray
 
-from cloth.case import Case
 from cloth.case.pieces import Pieces
 from cloth.errors import InputError
 from cloth.garment.grid import WARP, WEFT, Grid
+from cloth.garment.layout import Layout, share_of, tributary_boundaries
 from cloth.garment.state import grid_fabric
 from cloth.materials.composite import parallel, scaled, series
 from cloth.materials.curves import Fabric, StressStrainCurve
@@ -98,64 +91,6 @@ class SpringMaterials:
     def thickness(self) -> NDArray[np.float64]:
         """(W,) float, m: the thickness of each weft and warp spring's own fabric."""
         return np.asarray(self.fabric_thickness)[self.fabric]
-
-
-def share_of(angle_deg: float) -> float:
-    """The share of the circumference (1, in [0, 1)) from the centre back at ``angle_deg``
-    from the centre front (module docstring)."""
-    return float(np.mod((angle_deg + 180.0) / 360.0, 1.0))
-
-
-def band_heights(
-    heights: NDArray[np.float64], pieces: Pieces, bottom: float, top: float
-) -> NDArray[np.float64]:
-    """The rows' cut heights ((m,), m) with a row moved to the middle of every band that holds
-    none (module docstring); the edge rows stay."""
-    out = np.array(heights, dtype=float)
-    for band in pieces.bands:
-        low, high = band.span(bottom, top)
-        if np.any((out >= low - 1e-12) & (out <= high + 1e-12)):
-            continue
-        middle = 0.5 * (low + high)
-        interior = np.arange(1, len(out) - 1)
-        if interior.size == 0:
-            continue
-        j = int(interior[np.argmin(np.abs(out[interior] - middle))])
-        out[j] = middle
-        if not np.all(np.diff(out) > 0):
-            raise InputError(
-                f"band {band.name!r} is too narrow for the grid's {len(out)} rows to hold one; "
-                "give more rows (grid) or a wider band",
-                field="garment.grid",
-            )
-    return out
-
-
-def row_zones(heights: NDArray[np.float64], pieces: Pieces, bottom: float, top: float) -> NDArray:
-    """(m,) int: the band each row belongs to (its index), -1 outside every band."""
-    zone = np.full(len(heights), -1)
-    for k, band in enumerate(pieces.bands):
-        low, high = band.span(bottom, top)
-        zone[(heights >= low - 1e-12) & (heights <= high + 1e-12)] = k
-    return zone
-
-
-def band_circumference(
-    circumference: NDArray[np.float64],
-    girth: NDArray[np.float64],
-    zone: NDArray,
-    pieces: Pieces,
-) -> NDArray[np.float64]:
-    """The rows' rest circumferences ((m,), m) with each band's rows cut as the band is: its
-    reduction of the cut body's ``girth`` ((m,), m), or its circumference."""
-    out = np.array(circumference, dtype=float)
-    for k, band in enumerate(pieces.bands):
-        rows = zone == k
-        if band.circumference is not None:
-            out[rows] = band.circumference
-        else:
-            out[rows] = (1.0 - float(band.reduction)) * girth[rows]
-    return out
 
 
 class _Recipes:
@@ -556,51 +491,28 @@ def _split_layers(a: float, b: float, layers_v) -> list[tuple[float, float, list
     return out
 
 
-def tributary_boundaries(
-    heights: NDArray[np.float64],
-    rest_v: NDArray[np.float64],
-    zone: NDArray,
-    pieces: Pieces,
-    bottom: float,
-    top: float,
-) -> NDArray[np.float64]:
-    """(m + 1,) float, m: the rows' tributary strips in rest v (module docstring): midpoints,
-    except between rows of different zones, where the band's edge is."""
-    mid = 0.5 * (rest_v[:-1] + rest_v[1:])
-    for j in range(len(heights) - 1):
-        if zone[j] == zone[j + 1]:
-            continue
-        band = pieces.bands[zone[j] if zone[j] >= 0 else zone[j + 1]]
-        low, high = band.span(bottom, top)
-        edge = high if zone[j] >= 0 else low  # the band below ends, or the band above starts
-        if zone[j] >= 0 and zone[j + 1] >= 0:
-            edge = pieces.bands[zone[j]].span(bottom, top)[1]
-        mid[j] = np.interp(edge, heights, rest_v)
-    return np.concatenate(([rest_v[0]], mid, [rest_v[-1]]))
-
-
 def garment_grid(
     grid: Grid,
-    case: Case,
+    layout: Layout,
     fabric: Fabric,
     fabrics: Mapping[str, Fabric],
     cut_heights: NDArray[np.float64],
     zone: NDArray,
 ) -> Grid:
     """``grid`` (of the case's ``fabric`` alone, rows cut at ``cut_heights``, m, each in its
-    band ``zone``) with the fabrics of the case's bands, panels, layers and seams, ``fabrics``
-    by name (as ingested; each seen by the grid as the case's ``around`` says)."""
-    garment = case.garment
-    pieces = garment.pieces
-    missing = [name for name in pieces.materials if name not in fabrics and name != case.material]
+    band ``zone``, `cloth.garment.layout.row_zones`) with the fabrics of its ``layout``'s
+    bands, panels, layers and seams, ``fabrics`` by name (as ingested; each seen by the grid as
+    the layout's ``around`` says)."""
+    pieces = layout.pieces
+    missing = [name for name in pieces.materials if name not in fabrics and name != layout.material]
     if missing:
         raise ValueError(f"the garment's fabrics {missing} are missing (fabrics=...)")
-    seen = {name: grid_fabric(f, garment.around) for name, f in fabrics.items()}
-    seen[case.material] = grid_fabric(fabric, garment.around)
+    seen = {name: grid_fabric(f, layout.around) for name, f in fabrics.items()}
+    seen[layout.material] = grid_fabric(fabric, layout.around)
     rest_v = grid.rest_uv[:: grid.n, 1]
-    boundary = tributary_boundaries(cut_heights, rest_v, zone, pieces, garment.bottom, garment.top)
+    boundary = tributary_boundaries(cut_heights, rest_v, zone, pieces, layout.bottom, layout.top)
     materials, area = spring_materials(
-        grid, pieces, seen, case.material, cut_heights, zone, boundary
+        grid, pieces, seen, layout.material, cut_heights, zone, boundary
     )
     log.info(
         "a garment of %d fabrics (%s), %d curves for its springs",
@@ -621,12 +533,7 @@ def with_pieces(grid: Grid, materials: SpringMaterials, area: NDArray[np.float64
 __all__ = [
     "BODY",
     "SpringMaterials",
-    "band_circumference",
-    "band_heights",
     "garment_grid",
-    "row_zones",
-    "share_of",
     "spring_materials",
-    "tributary_boundaries",
     "with_pieces",
 ]

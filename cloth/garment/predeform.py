@@ -38,13 +38,8 @@ from cloth.case import Case
 from cloth.errors import InputError
 from cloth.garment.cut import NO_PLACEMENT, BodyCut, TableCut, cut_girths, placement
 from cloth.garment.grid import FIXED, FREE, SLIDING, WEFT, Grid, build_grid
-from cloth.garment.pieces import (
-    band_circumference,
-    band_heights,
-    garment_grid,
-    row_zones,
-    with_pieces,
-)
+from cloth.garment.layout import Layout, band_circumference, band_heights, row_zones
+from cloth.garment.pieces import garment_grid, with_pieces
 from cloth.garment.rows import row_heights
 from cloth.garment.state import State, grid_fabric
 from cloth.garment.worn import set_strains
@@ -281,7 +276,7 @@ def predeform(
         **moduli,
     )
     if pieces.any:
-        grid = garment_grid(grid, case, fabric, fabrics or {}, cut_heights, zone)
+        grid = garment_grid(grid, Layout.of(case), fabric, fabrics or {}, cut_heights, zone)
     offset = garment.offset
     x = wrap(body, hulls, heights, n, offset)
     constraint = np.full(grid.n_nodes, FREE, dtype=np.int8)
@@ -319,6 +314,7 @@ def predeform(
         skin=case.skin,
         body=body_ref,
         fabrics=dict(fabrics or {}) if pieces.any else {},
+        layout=Layout.of(case) if pieces.any else None,
         moduli=moduli,
         attrs={
             "offset": offset,

@@ -45,6 +45,8 @@ class State:
     fabrics : dict of str to Fabric
         The fabrics of the garment's bands, panels, layers and seams by the names the case
         gives them (`cloth.garment.pieces`); empty for a garment of one fabric.
+    layout : Layout or None
+        Where those pieces lie (`cloth.garment.layout`), for the solvers.
     """
 
     grid: Grid
@@ -59,6 +61,9 @@ class State:
     skin: Skin = field(default_factory=Skin)
     attrs: dict[str, Any] = field(default_factory=dict)
     fabrics: dict[str, Fabric] = field(default_factory=dict)
+    #: Where the garment's pieces lie (`cloth.garment.layout.Layout`), copied from the case by
+    #: predeform as the skin is, for the solvers (which never read the case); None for one fabric.
+    layout: Any = None
 
     def with_positions(self, x: NDArray[np.float64], **changes: Any) -> State:
         return replace(self, x=x, **changes)

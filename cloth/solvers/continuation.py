@@ -98,12 +98,12 @@ def coarse_state(state: State, around: int, rows: NDArray[np.intp]) -> State:
         values = state.row_values(key)
         if values is not None:
             attrs[key] = values[rows].tolist()
-    if grid.materials is not None:  # a garment of several fabrics: its pieces on this level too
+    if state.layout is not None:  # a garment of several fabrics: its pieces on this level too
         zone = state.row_values("row_band")
         zone = np.full(rows.size, -1) if zone is None else zone[rows].astype(int)
         coarse = garment_grid(
             coarse,
-            state.case,
+            state.layout,
             state.fabric,
             state.fabrics,
             state.row_values("cut_height")[rows],
