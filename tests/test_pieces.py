@@ -660,3 +660,32 @@ def test_the_design_command_designs_a_panels_width(tmp_path):
         float(row["panel_width_deg"]), abs=1e-3
     )
     assert float(row["panel_width_deg"]) != 80.0  # moved from the case's
+
+
+def test_a_design_holds_a_band_at_most_as_hard_as_the_line_beside_it():
+    """A top band cut too small (elastic cut 20 %: it presses harder than the power net
+    beside it): the design meets its target at the middle and, with the band at most 1x the
+    line beside it, designs the band's reduction to press as the fabric beside it does, the
+    closed form T_band(e_band) = T_net(e_net) on a cylinder, within 1 %."""
+    from cloth.files.body import body_from_record
+    from cloth.results.pressure import MMHG
+    from cloth.results.targets import Target
+    from cloth.stages.design import band_ratios, design, hold_band_ratios
+
+    case = band_case(96, 24, reduction=0.2)
+    case["landmarks"] = {"middle": 0.25}
+    state = initial_state(case)
+    body = body_from_record(state.body)
+    targets = [Target("middle", 20 * MMHG)]
+    first = design(state, body, targets)
+    band, beside = band_ratios(first.state, body)["waistband"]
+    assert band > 1.05 * beside  # the band presses harder than the fabric beside it
+    held = hold_band_ratios(first, body, targets, 1.0)
+    band, beside = band_ratios(held.state, body)["waistband"]
+    assert band <= beside + 0.5 * MMHG
+    assert abs(held.achieved[list(held.lines).index("middle")] - 20 * MMHG) <= 0.5 * MMHG
+    net = 1 / (1 - held.reduction()["middle"]) - 1
+    e_band = brentq(
+        lambda e: tension("elastic25", e) - tension("powernet", net), 0.0, 1.0, xtol=1e-12
+    )
+    assert held.band_reductions()["waistband"] == pytest.approx(1 - 1 / (1 + e_band), rel=1e-2)

@@ -412,6 +412,14 @@ def design(args: argparse.Namespace) -> int:
             field="--target",
         )
     options = {"cut": args.cut, "allowance": args.seam_allowance, "paper": args.paper}
+    if args.band_ratio_max is not None:
+        if not (args.band_ratio_max > 0 and args.band_ratio_max < float("inf")):
+            raise InputError(
+                f"must be a positive ratio, got {args.band_ratio_max}", field="--band-ratio-max"
+            )
+        if args.sizes is not None or len(args.input) > 1:
+            raise InputError("--band-ratio-max designs one case", field="--band-ratio-max")
+        options["band_ratio"] = args.band_ratio_max
     if args.sizes is not None and len(args.input) > 1:
         raise InputError(
             "--sizes takes one case on a chart's body; several case files are one size each",

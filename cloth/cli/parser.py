@@ -525,6 +525,14 @@ def build_parser() -> argparse.ArgumentParser:
         "wearer inside every band, --target LINE=LOW:HIGH (docs/outputs.md, 'Robust design')",
     )
     de.add_argument(
+        "--band-ratio-max",
+        type=float,
+        metavar="R",
+        help="with a case of bands: every band presses at most R times the line beside it (1: "
+        "a stocking's top band no harder than the leg below); a band over it has its reduction "
+        "designed to R x that line (docs/how-to/pieces.md)",
+    )
+    de.add_argument(
         "--panel",
         type=int,
         metavar="K",

@@ -32,6 +32,7 @@ from numpy.typing import NDArray
 
 from cloth.bodies import Body
 from cloth.case import Case, Settings
+from cloth.case.pieces import BESIDE
 from cloth.errors import InputError
 from cloth.garment.grid import WEFT
 from cloth.garment.predeform import predeform, with_bands, with_profile
@@ -291,6 +292,74 @@ def design(
         uniform=uniform,
         bands=tuple(state.case.garment.pieces.bands[k].name for k in bands),
     )
+
+
+#: Rounds of `hold_band_ratios` at most (the line beside a band moves a little with it).
+RATIO_ROUNDS = 3
+
+
+def band_ratios(state: State, body: Body) -> dict[str, tuple[float, float]]:
+    """Each band's mean pressure and the line beside it's (Pa), at ``state``'s equilibrium (one
+    relaxation from it, which ends where it starts); bands whose line beside is off the
+    garment are left out."""
+    heights = landmark_heights(state)
+    wanted = {}
+    for band in state.case.garment.pieces.bands:
+        if band.reduction is not None and band.name + BESIDE in heights:
+            wanted[band.name] = heights[band.name]
+            wanted[band.name + BESIDE] = heights[band.name + BESIDE]
+    if not wanted:
+        return {}
+    result = relax(state, body, replace(state.case.solver, progress=False))
+    marks = {m.name: m.mean for m in girth_marks(state, result.final, wanted, body)}
+    return {
+        name: (marks[name], marks[name + BESIDE])
+        for name in wanted
+        if not name.endswith(BESIDE) and name in marks and name + BESIDE in marks
+    }
+
+
+def hold_band_ratios(
+    result: Design,
+    body: Body,
+    targets: list[Target],
+    ratio: float,
+    tolerance: float = TOLERANCE,
+    source: str = "case",
+) -> Design:
+    """``result`` with every band pressing at most ``ratio`` times the line beside it (a
+    stocking's top band no tourniquet; `cloth.case.pieces.BESIDE`): where one presses more, the
+    design is run again with that band's line targeted at ``ratio`` x the line beside's mean,
+    the other targets kept, until none presses more or after `RATIO_ROUNDS` rounds."""
+    held: dict[str, float] = {}
+    for _ in range(RATIO_ROUNDS):
+        over = {
+            name: (band, beside)
+            for name, (band, beside) in band_ratios(result.state, body).items()
+            if band > ratio * beside + AIM * tolerance or name in held
+        }
+        if not over or all(
+            abs(band - ratio * beside) <= AIM * tolerance for band, beside in over.values()
+        ):
+            break
+        held = {name: ratio * beside for name, (_, beside) in over.items()}
+        log.info(
+            "design: bands over %.3g x the line beside: %s; their reductions designed to it",
+            ratio,
+            ", ".join(
+                f"{n} {b / MMHG:.2f} > {ratio:g} x {s / MMHG:.2f} mmHg"
+                for n, (b, s) in over.items()
+            ),
+        )
+        kept = [t for t in targets if t.line not in held]
+        result = design(
+            result.state,
+            body,
+            kept + [Target(name, value) for name, value in held.items()],
+            tolerance,
+            source,
+        )
+    return result
 
 
 def band_controls(state: State, targets: list[Target]) -> tuple[tuple[int, ...], bool]:

@@ -47,7 +47,7 @@ from cloth.pipeline.sweep import write_rows
 from cloth.results.pressure import MMHG
 from cloth.results.targets import Target
 from cloth.stages.case import initial_state, run_case
-from cloth.stages.design import TOLERANCE, Design, design
+from cloth.stages.design import TOLERANCE, Design, design, hold_band_ratios
 from cloth.stages.patterns import default_formats, write_patterns
 
 log = logging.getLogger(__name__)
@@ -62,14 +62,18 @@ def design_files(
     cut: str = "auto",
     allowance: float = SEAM_ALLOWANCE_MM,
     paper: str = "A4",
+    band_ratio: float | None = None,
 ) -> Design:
     """The design of ``case_path`` to ``targets`` and its files in ``output`` (module
-    docstring); `InputError` after writing them when a target is out of reach."""
+    docstring); `InputError` after writing them when a target is out of reach. ``band_ratio``:
+    every band at most this times the line beside it (`design_one`)."""
     check_targets(targets)
     case = load_case(case_path)
     base_dir = Path(case_path).parent if base_dir is None else Path(base_dir)
     cut = cut_of(case, cut)
-    result, rows = design_one(case, targets, output, tolerance, base_dir, str(case_path))
+    result, rows = design_one(
+        case, targets, output, tolerance, base_dir, str(case_path), band_ratio
+    )
     write_rows(rows, output / "design_confirmed.csv", list(rows[0]))
     plot_profile_design(rows, output / "design_profile.png")
     formats = default_formats(cut)
@@ -124,13 +128,17 @@ def design_one(
     tolerance: float,
     base_dir: Path,
     source: str,
+    band_ratio: float | None = None,
 ) -> tuple[Design, list[dict[str, object]]]:
     """The design of ``case`` (paths relative to ``base_dir``) into ``output``: its case.yaml,
     design_iterations.csv and confirmation from scratch (module docstring); the outcome and its
-    design_confirmed.csv rows, not yet written."""
+    design_confirmed.csv rows, not yet written. ``band_ratio``: every band presses at most
+    this times the line beside it (`cloth.stages.design.hold_band_ratios`)."""
     state = initial_state(case, base_dir, source)
     body = body_from_record(state.body)
     result = design(state, body, targets, tolerance, source)
+    if band_ratio is not None:
+        result = hold_band_ratios(result, body, targets, band_ratio, tolerance, source)
     output.mkdir(parents=True, exist_ok=True)
     data = result.state.case.to_dict()
     data["garment"]["reduction"] = result.reduction()
