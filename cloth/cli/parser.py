@@ -7,7 +7,8 @@ from pathlib import Path
 from typing import Any, NoReturn
 
 from cloth import __version__
-from cloth.cli.argtypes import amount
+from cloth.cli.argtypes import path_argument, pattern_options, size_names
+from cloth.cli.designcommand import add_design_command
 from cloth.cli.measurecommands import add_measure_commands
 from cloth.cli.sizecommands import add_sizes_command
 from cloth.cli.wearercommands import add_wearers_commands
@@ -29,50 +30,11 @@ class Parser(argparse.ArgumentParser):
         return action
 
 
-def _path(text: str) -> Path:
-    """A path argument: not empty (``Path("")`` would be the working directory)."""
-    if not text.strip():
-        raise argparse.ArgumentTypeError("give a path, not an empty string")
-    return Path(text)
-
-
 def _positive_int(text: str) -> int:
     value = int(text)
     if value < 2:
         raise argparse.ArgumentTypeError(f"must be >= 2, got {value}")
     return value
-
-
-def _sizes(text: str) -> list[str]:
-    """A comma-separated list of size names: ``S,M,L``."""
-    names = [name.strip() for name in text.split(",")]
-    if not all(names):
-        raise argparse.ArgumentTypeError(
-            f"give size names separated by commas, e.g. S,M,L; got {text!r}"
-        )
-    return names
-
-
-#: A length in mm, >= 0 and finite.
-_millimetres = amount("length", "mm")
-
-
-def _pattern_options(command: argparse.ArgumentParser) -> None:
-    """The pattern pieces' options (`cloth.files.piece`, `cloth.files.printout`)."""
-    command.add_argument(
-        "--seam-allowance",
-        type=_millimetres,
-        default=6.0,
-        metavar="MM",
-        help="seam allowance of the cut line around the sew line, mm (default 6, a flatlock "
-        "seam's; 0: the net pattern)",
-    )
-    command.add_argument(
-        "--paper",
-        choices=("A4", "letter"),
-        default="A4",
-        help="paper of the 1:1 PDF, tiled where the piece does not fit (default A4)",
-    )
 
 
 def _force_option(command: argparse.ArgumentParser) -> None:
@@ -99,7 +61,10 @@ def _json_option(command: argparse.ArgumentParser, block: str, ignore: tuple[str
 def _mesh_options(parser: argparse.ArgumentParser) -> None:
     """A mesh file as a case reads it, and the options of its smooth surface."""
     parser.add_argument(
-        "mesh", type=_path, nargs="?", help="mesh file (OBJ, STL, PLY, GLB, ...; or --json's mesh)"
+        "mesh",
+        type=path_argument,
+        nargs="?",
+        help="mesh file (OBJ, STL, PLY, GLB, ...; or --json's mesh)",
     )
     parser.add_argument("--units", default="m", help="length unit of the file: m, cm or mm")
     parser.add_argument("--up", default="z", help="axis of the file that points up: x, y or z")
@@ -154,10 +119,12 @@ def build_parser() -> argparse.ArgumentParser:
         description="Read lab tables (see docs/materials.md) into a material netCDF file.",
     )
     ingest.add_argument(
-        "tables", nargs="*", type=_path, help="CSV lab table(s) (or --json's table)"
+        "tables", nargs="*", type=path_argument, help="CSV lab table(s) (or --json's table)"
     )
-    ingest.add_argument("-o", "--output", type=_path, required=True, help="material.nc to write")
-    ingest.add_argument("--plot", type=_path, help="also write a figure of data and curves")
+    ingest.add_argument(
+        "-o", "--output", type=path_argument, required=True, help="material.nc to write"
+    )
+    ingest.add_argument("--plot", type=path_argument, help="also write a figure of data and curves")
     ingest.add_argument(
         "--direction",
         action="append",
@@ -197,22 +164,26 @@ def build_parser() -> argparse.ArgumentParser:
         description="Build the smooth, watertight parametric torso of a size (m, z up).",
     )
     torso.add_argument("--size", help="size name in the chart (e.g. S, M); required")
-    torso.add_argument("--chart", type=_path, help="size chart CSV (default data/bodies)")
+    torso.add_argument("--chart", type=path_argument, help="size chart CSV (default data/bodies)")
     for key in ("bust", "underbust", "waist", "hip"):
         torso.add_argument(f"--{key}", type=float, help=f"override the {key} girth, cm")
     torso.add_argument("--around", type=int, default=128, help="mesh points per ring")
     torso.add_argument("--rings", type=int, default=120, help="mesh rings")
-    torso.add_argument("-o", "--output", type=_path, required=True, help="mesh file (.ply, .stl)")
+    torso.add_argument(
+        "-o", "--output", type=path_argument, required=True, help="mesh file (.ply, .stl)"
+    )
     _json_option(torso, "a case's torso body block (docs/config.md)", ("surface", "tissue"))
     torso.set_defaults(handler="body_torso")
     leg = body_commands.add_parser(
         "leg", help="write the parametric leg of a stocking size chart as a mesh (m, z up)"
     )
     leg.add_argument("--size", required=True, help="size name in the leg chart (e.g. S, M, L)")
-    leg.add_argument("--chart", type=_path, help="leg chart CSV (default data/bodies)")
+    leg.add_argument("--chart", type=path_argument, help="leg chart CSV (default data/bodies)")
     leg.add_argument("--around", type=int, default=96, help="mesh points per ring")
     leg.add_argument("--rings", type=int, default=160, help="mesh rings")
-    leg.add_argument("-o", "--output", type=_path, required=True, help="mesh file (.ply, .stl)")
+    leg.add_argument(
+        "-o", "--output", type=path_argument, required=True, help="mesh file (.ply, .stl)"
+    )
     leg.set_defaults(handler="body_leg")
     check = body_commands.add_parser(
         "check",
@@ -228,10 +199,14 @@ def build_parser() -> argparse.ArgumentParser:
         help="contact surface: smooth (fit it and report its deviation) or mesh (the facets)",
     )
     check.add_argument(
-        "--curvature", type=_path, help="write the smooth surface's mean curvature figure (PNG)"
+        "--curvature",
+        type=path_argument,
+        help="write the smooth surface's mean curvature figure (PNG)",
     )
     check.add_argument(
-        "--surface-file", type=_path, help="a fitted surface (cloth body fit) to use if it fits"
+        "--surface-file",
+        type=path_argument,
+        help="a fitted surface (cloth body fit) to use if it fits",
     )
     _json_option(check, "a case's mesh body block (docs/config.md)", ("tissue",))
     check.set_defaults(handler="body_check")
@@ -241,7 +216,7 @@ def build_parser() -> argparse.ArgumentParser:
         description="Fit (or reuse) the smooth contact surface of a mesh body (docs/bodies.md).",
     )
     _mesh_options(fit)
-    fit.add_argument("-o", "--output", type=_path, required=True, help="surface file (.nc)")
+    fit.add_argument("-o", "--output", type=path_argument, required=True, help="surface file (.nc)")
     _json_option(
         fit, "a case's mesh body block (docs/config.md)", ("surface", "surface_file", "tissue")
     )
@@ -254,9 +229,11 @@ def build_parser() -> argparse.ArgumentParser:
         "posed, cropped, watertight mesh (m, z up, floor at 0) and its provenance beside it. "
         "Needs the extra: pip install 'cloth[bodies]'.",
     )
-    avatar.add_argument("chart", type=_path, help="torso or leg size chart (CSV, cm)")
+    avatar.add_argument("chart", type=path_argument, help="torso or leg size chart (CSV, cm)")
     avatar.add_argument("--size", required=True, help="size name in the chart (e.g. S, M, L)")
-    avatar.add_argument("-o", "--output", type=_path, required=True, help="mesh file (.ply)")
+    avatar.add_argument(
+        "-o", "--output", type=path_argument, required=True, help="mesh file (.ply)"
+    )
     avatar.add_argument(
         "--full",
         action="store_true",
@@ -270,14 +247,18 @@ def build_parser() -> argparse.ArgumentParser:
         help="case.yaml -> initial.nc (the garment wrapped on the body)",
         description="Cut the pattern of a case and wrap it around the body (docs/config.md).",
     )
-    pre.add_argument("case", type=_path, help="case YAML file")
-    pre.add_argument("-o", "--output", type=_path, required=True, help="initial.nc to write")
+    pre.add_argument("case", type=path_argument, help="case YAML file")
+    pre.add_argument(
+        "-o", "--output", type=path_argument, required=True, help="initial.nc to write"
+    )
     pre.add_argument(
         "--base-dir",
-        type=_path,
+        type=path_argument,
         help="folder relative paths in the case are relative to (default: the case file's folder)",
     )
-    pre.add_argument("--plot", type=_path, help="also write a 3D figure of the wrapped garment")
+    pre.add_argument(
+        "--plot", type=path_argument, help="also write a 3D figure of the wrapped garment"
+    )
     _force_option(pre)
     pre.set_defaults(handler="predeform")
 
@@ -306,8 +287,10 @@ def build_parser() -> argparse.ArgumentParser:
         help="initial.nc -> relaxed.nc (equilibrium on the body)",
         description="Relax a wrapped garment to equilibrium (docs/solvers.md).",
     )
-    rel.add_argument("initial", type=_path, help="initial.nc from cloth predeform")
-    rel.add_argument("-o", "--output", type=_path, required=True, help="relaxed.nc to write")
+    rel.add_argument("initial", type=path_argument, help="initial.nc from cloth predeform")
+    rel.add_argument(
+        "-o", "--output", type=path_argument, required=True, help="relaxed.nc to write"
+    )
     solver_options(rel)
     rel.set_defaults(handler="relax")
 
@@ -316,8 +299,8 @@ def build_parser() -> argparse.ArgumentParser:
         help="case.yaml -> every stage into a folder: initial.nc, relaxed.nc, "
         "result.nc, summary.csv, figures/ and garment.html",
     )
-    run.add_argument("case", type=_path, help="case YAML file")
-    run.add_argument("-o", "--output", type=_path, required=True, help="output folder")
+    run.add_argument("case", type=path_argument, help="case YAML file")
+    run.add_argument("-o", "--output", type=path_argument, required=True, help="output folder")
     run.add_argument(
         "--stop-after",
         choices=("predeform", "relax", "aggregate"),
@@ -325,15 +308,15 @@ def build_parser() -> argparse.ArgumentParser:
     )
     run.add_argument(
         "--base-dir",
-        type=_path,
+        type=path_argument,
         help="folder relative paths in the case are relative to (default: the case file's folder)",
     )
     solver_options(run)
     run.set_defaults(handler="run", output_folder=True)
 
-    add_wearers_commands(commands, body_commands, _path, solver_options)
-    add_sizes_command(commands, _path, solver_options)
-    add_measure_commands(commands, _path, solver_options)
+    add_wearers_commands(commands, body_commands, path_argument, solver_options)
+    add_sizes_command(commands, path_argument, solver_options)
+    add_measure_commands(commands, path_argument, solver_options)
 
     agg = commands.add_parser(
         "aggregate",
@@ -341,14 +324,16 @@ def build_parser() -> argparse.ArgumentParser:
         description="Compute node and spring stresses, body pressure and summaries "
         "(docs/outputs.md).",
     )
-    agg.add_argument("relaxed", type=_path, help="relaxed.nc from cloth relax")
-    agg.add_argument("-o", "--output", type=_path, required=True, help="result.nc to write")
-    agg.add_argument("--summary", type=_path, help="also write the landmark summary CSV")
+    agg.add_argument("relaxed", type=path_argument, help="relaxed.nc from cloth relax")
+    agg.add_argument("-o", "--output", type=path_argument, required=True, help="result.nc to write")
+    agg.add_argument("--summary", type=path_argument, help="also write the landmark summary CSV")
     agg.set_defaults(handler="aggregate")
 
     plot = commands.add_parser("plot", help="result.nc -> figures (PNG) in a folder")
-    plot.add_argument("result", type=_path, help="result.nc from cloth aggregate")
-    plot.add_argument("-o", "--output", type=_path, required=True, help="folder for the figures")
+    plot.add_argument("result", type=path_argument, help="result.nc from cloth aggregate")
+    plot.add_argument(
+        "-o", "--output", type=path_argument, required=True, help="folder for the figures"
+    )
     plot.add_argument(
         "--stress-range",
         type=float,
@@ -365,7 +350,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     plot.add_argument(
         "--peers",
-        type=_path,
+        type=path_argument,
         nargs="*",
         default=[],
         metavar="RESULT",
@@ -374,7 +359,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     plot.add_argument(
         "--ranges",
-        type=_path,
+        type=path_argument,
         metavar="JSON",
         help="colour-range file from cloth ranges (a sweep's): its ranges for those not "
         "given, in place of --peers",
@@ -387,20 +372,26 @@ def build_parser() -> argparse.ArgumentParser:
         description="The stress (Pa) and pressure (mmHg) colour ranges shared by a sweep's "
         "results, read once for cloth plot --ranges (docs/outputs.md).",
     )
-    ranges.add_argument("results", type=_path, nargs="+", help="result.nc files of a sweep")
-    ranges.add_argument("-o", "--output", type=_path, required=True, help="JSON file to write")
+    ranges.add_argument("results", type=path_argument, nargs="+", help="result.nc files of a sweep")
+    ranges.add_argument(
+        "-o", "--output", type=path_argument, required=True, help="JSON file to write"
+    )
     ranges.set_defaults(handler="ranges")
 
     view = commands.add_parser(
         "view", help="result.nc -> one self-contained HTML page: body and garment in 3D"
     )
-    view.add_argument("result", type=_path, help="result.nc from cloth aggregate")
-    view.add_argument("-o", "--output", type=_path, required=True, help="HTML file to write")
+    view.add_argument("result", type=path_argument, help="result.nc from cloth aggregate")
+    view.add_argument(
+        "-o", "--output", type=path_argument, required=True, help="HTML file to write"
+    )
     view.set_defaults(handler="view")
 
     exp = commands.add_parser("export", help="result.nc -> .ply, .vtu or .csv")
-    exp.add_argument("result", type=_path, help="result.nc from cloth aggregate")
-    exp.add_argument("-o", "--output", type=_path, required=True, help="file: .ply, .vtu, .csv")
+    exp.add_argument("result", type=path_argument, help="result.nc from cloth aggregate")
+    exp.add_argument(
+        "-o", "--output", type=path_argument, required=True, help="file: .ply, .vtu, .csv"
+    )
     exp.add_argument("--field", default="stress_weft", help="field coloured in the PLY")
     exp.set_defaults(handler="export")
 
@@ -410,12 +401,12 @@ def build_parser() -> argparse.ArgumentParser:
         "graded nest in AAMA/ASTM DXF, a 1:1 PDF, a tube's knitting table (mm; docs/outputs.md)",
     )
     pat.add_argument(
-        "result", type=_path, nargs="+", help="result.nc from cloth aggregate, one per size"
+        "result", type=path_argument, nargs="+", help="result.nc from cloth aggregate, one per size"
     )
     pat.add_argument(
         "-o",
         "--output",
-        type=_path,
+        type=path_argument,
         required=True,
         help="pattern.csv to write; the other files get its name with their suffixes "
         "(pattern_astm.dxf, pattern_knitting.csv; with several sizes pattern_{size}.csv ...)",
@@ -436,10 +427,10 @@ def build_parser() -> argparse.ArgumentParser:
     )
     pat.add_argument(
         "--sizes",
-        type=_sizes,
+        type=size_names,
         help="the results' size names, in order, e.g. S,M,L (default: each result's chart size)",
     )
-    _pattern_options(pat)
+    pattern_options(pat)
     pat.add_argument(
         "--course-step",
         type=float,
@@ -457,7 +448,10 @@ def build_parser() -> argparse.ArgumentParser:
 
     sw = commands.add_parser("sweep", help="results of a sweep -> sweep.nc, sweep.csv, design plot")
     sw.add_argument(
-        "results", nargs="+", type=_path, help="result.nc of each case of the index, in its order"
+        "results",
+        nargs="+",
+        type=path_argument,
+        help="result.nc of each case of the index, in its order",
     )
     sw.add_argument(
         "--index",
@@ -465,119 +459,32 @@ def build_parser() -> argparse.ArgumentParser:
         help="JSON list of {case, material, body, reduction, and the variant keys}",
     )
     sw.add_argument("--targets", default="[]", help="JSON list of design targets (for the plot)")
-    sw.add_argument("-o", "--output", type=_path, required=True, help="sweep.nc to write")
-    sw.add_argument("--csv", type=_path, required=True, help="sweep.csv to write")
-    sw.add_argument("--plot", type=_path, required=True, help="design plot to write")
+    sw.add_argument("-o", "--output", type=path_argument, required=True, help="sweep.nc to write")
+    sw.add_argument("--csv", type=path_argument, required=True, help="sweep.csv to write")
+    sw.add_argument("--plot", type=path_argument, required=True, help="design plot to write")
     sw.add_argument(
         "--body-plot",
-        type=_path,
+        type=path_argument,
         help="small multiples to write: the pressure on the body per body and reduction",
     )
     sw.set_defaults(handler="sweep")
 
-    de = commands.add_parser(
-        "design",
-        help="sweep.nc -> design.csv: the uniform reduction per target; or case.yaml -> a "
-        "graded pattern meeting a pressure on every target line (docs/outputs.md)",
-    )
-    de.add_argument(
-        "input",
-        type=_path,
-        nargs="+",
-        help="sweep.nc from cloth sweep, or a case YAML; or one case YAML per size (each size "
-        "named by its file's stem)",
-    )
-    de.add_argument("--targets", help="with sweep.nc: JSON list of {landmark, pressure_mmHg}")
-    de.add_argument(
-        "--target",
-        action="append",
-        default=[],
-        metavar="LINE=PRESSURE",
-        help="with a case: a girth line's mean pressure, in mmHg (default), kPa or Pa, e.g. "
-        "waist=20 or hip=2.0kPa, or a band LINE=LOW:HIGH (B=23:32; with --wearers); repeat "
-        "per line",
-    )
-    de.add_argument(
-        "--base-dir",
-        type=_path,
-        help="with a case: folder relative paths in the case are "
-        "relative to (default: the case file's folder)",
-    )
-    de.add_argument(
-        "--tolerance",
-        type=float,
-        default=0.5,
-        help="with a case: how near every line must come to its target, mmHg (default 0.5)",
-    )
-    de.add_argument(
-        "--sizes",
-        type=_sizes,
-        help="with a case on a parametric torso or leg: design these sizes of its chart at "
-        "once, e.g. S,M,L, each warm-started from the one before it",
-    )
-    de.add_argument(
-        "--wearers",
-        nargs="?",
-        const="shipped",
-        metavar="DIR",
-        help="with a case: a robust design for every wearer of the case's size (the shipped "
-        "wearers of its chart, or DIR from cloth body wearers): one profile that puts each "
-        "wearer inside every band, --target LINE=LOW:HIGH (docs/outputs.md, 'Robust design')",
-    )
-    de.add_argument(
-        "--band-ratio-max",
-        type=float,
-        metavar="R",
-        help="with a case of bands: every band presses at most R times the line beside it (1: "
-        "a stocking's top band no harder than the leg below); a band over it has its reduction "
-        "designed to R x that line (docs/how-to/pieces.md)",
-    )
-    de.add_argument(
-        "--panel",
-        type=int,
-        metavar="K",
-        help="with a case of panels: meet the one --target by panel K's width (0: the first "
-        "listed), about its centre, its neighbours' fabrics held (docs/how-to/pieces.md)",
-    )
-    de.add_argument(
-        "--report-unmet",
-        action="store_true",
-        help="with --wearers: a band not met is reported in robust.csv only, exit status 0 "
-        "(the pipeline's robust designs)",
-    )
-    de.add_argument(
-        "--cold",
-        action="store_true",
-        help="with several sizes: start each size from the case, not from the size before it",
-    )
-    de.add_argument(
-        "--cut",
-        choices=("auto", "two-panel", "tube"),
-        default="auto",
-        help="with a case: the pattern's cut (default auto: a tube on a leg, two panels elsewhere)",
-    )
-    _pattern_options(de)
-    de.add_argument(
-        "-o",
-        "--output",
-        type=_path,
-        required=True,
-        help="design.csv to write (sweep.nc), or the folder of the design (a case)",
-    )
-    de.set_defaults(handler="design")
+    add_design_command(commands)
 
     co = commands.add_parser("confirm", help="design.csv + confirmation results -> errors")
-    co.add_argument("design", type=_path, help="design.csv from cloth design")
+    co.add_argument("design", type=path_argument, help="design.csv from cloth design")
     co.add_argument(
         "results",
         nargs="*",
-        type=_path,
+        type=path_argument,
         help="result.nc of each answered target's confirmation case, in design.csv's order",
     )
-    co.add_argument("-o", "--output", type=_path, required=True, help="confirmed CSV to write")
+    co.add_argument(
+        "-o", "--output", type=path_argument, required=True, help="confirmed CSV to write"
+    )
     co.add_argument(
         "--iterate",
-        type=_path,
+        type=path_argument,
         metavar="DIR",
         help="confirm each answer that misses its target by more than its stated error again, "
         "by a secant on the confirmed cases (at most 3 runs each, into DIR; docs/outputs.md)",
@@ -589,16 +496,18 @@ def build_parser() -> argparse.ArgumentParser:
     case_check = case_commands.add_parser(
         "check", help="validate a case file and print it with defaults filled"
     )
-    case_check.add_argument("case", type=_path, help="case YAML file")
+    case_check.add_argument("case", type=path_argument, help="case YAML file")
     case_check.set_defaults(handler="case_check")
     case_write = case_commands.add_parser(
         "write", help="validate a case given as JSON and write it as YAML (used by the pipeline)"
     )
     case_write.add_argument("--json", required=True, help="the case as a JSON object")
-    case_write.add_argument("-o", "--output", type=_path, required=True, help="case YAML to write")
+    case_write.add_argument(
+        "-o", "--output", type=path_argument, required=True, help="case YAML to write"
+    )
     case_write.add_argument(
         "--base-dir",
-        type=_path,
+        type=path_argument,
         default=Path("."),
         help="folder the JSON's relative paths are relative to (default: the working "
         "directory); the written case stores them relative to its own folder, so it runs as "
