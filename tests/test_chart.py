@@ -273,6 +273,7 @@ def test_the_stocking_s_knitting_table_has_every_size_and_its_girth_points(stock
     assert [r["size"] for r in rows] == sorted((r["size"] for r in rows), key=SIZES.index) and {
         r["size"] for r in rows
     } == set(SIZES)
+    assert {r["piece"] for r in rows} == {"TUBE"}  # one tube each: a stocking of one piece
     nest = read_nest(stocking / "pattern_astm.dxf")
     assert set(nest.pieces) == {f"TUBE_{size}" for size in SIZES}
     assert {p.fields["Quantity"] for p in nest.pieces.values()} == {"1"}

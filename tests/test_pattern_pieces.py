@@ -154,5 +154,7 @@ def test_the_sheet_and_the_pdfs_hold_every_piece(written):
         "BAND_welt",
         "LAYER_1",
     }
-    assert (folder / "pattern_knitting.csv").is_file()
+    knitting = list(csv.DictReader((folder / "pattern_knitting.csv").open()))
+    assert {r["size"] for r in knitting} == {"M"}
+    assert {r["piece"] for r in knitting} == {"BAND_topband", "BAND_welt"}  # panels: not knitted
     assert all(p.is_file() for p in paths)

@@ -55,7 +55,11 @@ def test_the_stocking_summary_judges_the_class_at_b_and_the_graduation(stocking)
     result = xr.load_dataset(case / "result.nc")
     assert int(result.attrs["converged"]) == 1 and float(result["residual"].values[-1]) <= 1e-8
     rows = {row["landmark"]: row for row in _rows(case / "summary.csv")}
-    assert list(rows) == list(POINTS)
+    assert [name for name in rows if name in POINTS] == list(POINTS)
+    # the top band (config/stocking.yaml) reads as a line, and against the leg below it
+    assert set(rows) - set(POINTS) == {"top_band", "top_band_beside"}
+    band, below = (float(rows[n]["pressure_mean_mmHg"]) for n in ("top_band", "top_band_beside"))
+    assert float(rows["top_band"]["band_ratio"]) == pytest.approx(band / below, rel=1e-4)
     b = float(rows["B"]["pressure_mean_mmHg"])
     assert rows["B"]["compression_class"] in ("I", "II", "III", "IV", "-")
     assert all(rows[p]["compression_class"] == "" for p in POINTS[1:])

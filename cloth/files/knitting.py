@@ -3,6 +3,10 @@ per course for each size of a stocking.
 
 Per size and course, bottom to top (``knitting.csv``):
 
+* ``piece``: the tube: ``TUBE`` for a garment of one piece; for a garment of several
+  (`cloth.files.garmentpieces`), ``BODY_TUBE`` or ``BODY_TUBE_k`` (the body between its bands)
+  and ``BAND_name`` (each band's tube);
+
 * ``course``: the course's number, 0 at the tube's bottom edge;
 * ``course_height_mm``: its rest height on the tube from the bottom edge (the warp's rest
   coordinate, `cloth.files.pattern.Pattern.height`), every ``step`` mm (default `STEP_MM`) and
@@ -36,10 +40,15 @@ from cloth.io import atomic_output
 
 log = logging.getLogger(__name__)
 
+#: A tube's key: its size, or (size, piece) for a garment of several pieces.
+Tube = str | tuple[str, str]
+#: The piece of a garment's one tube.
+TUBE = "TUBE"
 #: Default course step, mm.
 STEP_MM = 5.0
 COLUMNS = [
     "size",
+    "piece",
     "course",
     "course_height_mm",
     "body_height_m",
@@ -63,10 +72,13 @@ def course_heights(pattern: Pattern, step: float) -> np.ndarray:
     return np.append(heights, top - bottom)
 
 
-def knitting_rows(patterns: Mapping[str, Pattern], step: float = STEP_MM) -> list[dict]:
-    """The table's rows (module docstring) for each size of ``patterns`` (by size name)."""
+def knitting_rows(patterns: Mapping[Tube, Pattern], step: float = STEP_MM) -> list[dict]:
+    """The table's rows (module docstring) for each tube of ``patterns``: by size name (the
+    garment's one tube), or by (size, piece) for a garment of several pieces (its body's and
+    its bands' tubes, `cloth.files.garmentpieces`)."""
     rows = []
-    for size, pattern in patterns.items():
+    for key, pattern in patterns.items():
+        size, piece = key if isinstance(key, tuple) else (key, TUBE)
         heights = course_heights(pattern, step)
         at = pattern.height[0] + heights
         circumference = np.interp(at, pattern.height, pattern.circumference)
@@ -79,6 +91,7 @@ def knitting_rows(patterns: Mapping[str, Pattern], step: float = STEP_MM) -> lis
             rows.append(
                 {
                     "size": size,
+                    "piece": piece,
                     "course": k,
                     "course_height_mm": f"{heights[k]:.2f}",
                     "body_height_m": f"{body[k]:.5f}",
@@ -91,7 +104,7 @@ def knitting_rows(patterns: Mapping[str, Pattern], step: float = STEP_MM) -> lis
 
 
 def write_knitting(
-    patterns: Mapping[str, Pattern], csv_path: Path, png_path: Path, step: float = STEP_MM
+    patterns: Mapping[Tube, Pattern], csv_path: Path, png_path: Path, step: float = STEP_MM
 ) -> list[Path]:
     """``knitting.csv`` and ``knitting.png`` (module docstring) of the tubes ``patterns``
     (`cloth.stages.patterns.check_formats` refuses another cut before any file)."""
@@ -103,7 +116,7 @@ def write_knitting(
     return [csv_path, plot_tubes(patterns, png_path)]
 
 
-def plot_tubes(patterns: Mapping[str, Pattern], path: Path) -> Path:
+def plot_tubes(patterns: Mapping[Tube, Pattern], path: Path) -> Path:
     """The tubes laid flat side by side at one scale, girth points marked, mm."""
     fig, ax = plt.subplots(figsize=(2.0 + 1.6 * len(patterns), 6.0), layout="constrained")
     gap = 0.25 * max(float(p.circumference.max()) for p in patterns.values())
@@ -122,7 +135,8 @@ def plot_tubes(patterns: Mapping[str, Pattern], path: Path) -> Path:
             ax.annotate(
                 name, (centre + w, h), xytext=(2, 0), textcoords="offset points", fontsize=7
             )
-        ax.text(centre, -0.04 * float(y[-1]), size, ha="center", va="top")
+        label = " ".join(size) if isinstance(size, tuple) else size
+        ax.text(centre, -0.04 * float(y[-1]), label, ha="center", va="top")
         x = centre + float(half.max()) + gap
     ax.set_aspect("equal")
     ax.set_xticks([])

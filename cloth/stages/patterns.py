@@ -193,7 +193,7 @@ def write_patterns(
                 tubes[size] = patterns[size]
             for part in several[size]:
                 if part.kind in ("body", "band"):
-                    tubes[f"{size} {part.name}"] = part.pattern
+                    tubes[size, part.name] = part.pattern
         written += write_knitting(
             tubes,
             output.with_name(f"{output.stem}_knitting.csv"),
