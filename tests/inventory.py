@@ -24,6 +24,7 @@ SECTION = "## What users read"
 #: Files named after their case or size that the inventory lists under one name.
 FAMILIES = (
     (re.compile(r"^pattern_.*_knitting\.csv$|^pattern_knitting\.csv$"), "pattern_knitting.csv"),
+    (re.compile(r"^pattern(_.+)?_pieces\.csv$"), "pattern_pieces.csv"),
     (re.compile(r"^pattern(_.+)?\.csv$"), "pattern.csv"),
 )
 

@@ -689,3 +689,24 @@ def test_a_design_holds_a_band_at_most_as_hard_as_the_line_beside_it():
         lambda e: tension("elastic25", e) - tension("powernet", net), 0.0, 1.0, xtol=1e-12
     )
     assert held.band_reductions()["waistband"] == pytest.approx(1 - 1 / (1 + e_band), rel=1e-2)
+
+
+def test_seams_sit_where_the_panels_meet_at_equilibrium(tmp_path):
+    """result.nc's seams on a cylinder: each at the arc the stretched panels before it cover
+    from the centre back, sum w_i (1 + e_i(T)), at every row (within 1 mm: the chords)."""
+    panels = [("powernet", -60, 60), ("lightnet", 60, 300)]
+    blocks = [{"material": f, "from_deg": a, "to_deg": b} for f, a, b in panels]
+    case = cylinder_case({"panels": blocks, "seams": {"allowance_mm": 0}})
+    case["garment"]["error_estimate"] = False
+    ds = load_result(tmp_path, case)
+    rest = float(ds["rest_circumference"].values[2])
+    t = series_tension([((b - a) / 360, f) for f, a, b in panels], rest)
+    third = rest / 3
+    arcs = [third * (1 + strain_at("lightnet", t))]
+    arcs.append(arcs[0] + third * (1 + strain_at("powernet", t)))
+    assert ds["seam_angle"].values.tolist() == pytest.approx([-60.0, 60.0])
+    for k, arc in enumerate(arcs):
+        phi = arc / R  # from the centre back (-y), counter-clockwise seen from above
+        expected = np.array([R * np.sin(phi), -R * np.cos(phi)])
+        seam = np.stack([ds["seam_x"].values[k], ds["seam_y"].values[k]], axis=1)
+        assert np.abs(seam[1:-1] - expected).max() < 1e-3
