@@ -158,3 +158,31 @@ def test_the_sheet_and_the_pdfs_hold_every_piece(written):
     assert {r["size"] for r in knitting} == {"M"}
     assert {r["piece"] for r in knitting} == {"BAND_topband", "BAND_welt"}  # panels: not knitted
     assert all(p.is_file() for p in paths)
+
+
+def test_pattern_csv_says_each_rows_piece_and_the_panels_widths(written):
+    """pattern.csv stays the whole garment's rows (a case can wear it) and says which piece
+    each row is cut in, and each panel's and layer's width there: the panels' widths add up to
+    the row's rest circumference."""
+    from cloth.garment.cut import read_pattern
+
+    folder, out, _ = written
+    rows = [
+        r
+        for r in csv.DictReader(
+            line for line in (folder / "pattern.csv").open() if not line.startswith("#")
+        )
+    ]
+    result = xr.load_dataset(out / "result.nc")
+    cut = result["cut_height"].values
+    for row, z in zip(rows, cut, strict=True):
+        band = "BAND_topband" if z >= 0.37 - 1e-9 else "BAND_welt" if z <= 0.12 + 1e-9 else "BODY"
+        assert row["piece"] == band
+        if band == "BODY":
+            widths = float(row["PANEL_1_width_mm"]) + float(row["PANEL_2_width_mm"])
+            assert widths == pytest.approx(float(row["rest_circumference_mm"]), abs=2e-4)
+        else:
+            assert row["PANEL_1_width_mm"] == row["PANEL_2_width_mm"] == ""
+        assert (row["LAYER_1_width_mm"] != "") == (0.2 <= z <= 0.3)
+    worn = read_pattern(folder / "pattern.csv")  # still a pattern a case wears
+    assert len(worn.cut_height) == len(rows)

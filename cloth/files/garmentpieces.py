@@ -161,6 +161,29 @@ def garment_pieces(result: xr.Dataset, pattern: Pattern) -> list[PiecePattern]:
     return out
 
 
+def pattern_columns(result: xr.Dataset, pattern: Pattern) -> dict[str, list[str]]:
+    """pattern.csv's columns for a garment of several pieces, a text per row: ``piece``, the
+    band a row is cut in (``BAND_name``) or ``BODY``; and per panel and layer its width there,
+    ``PANEL_k_width_mm`` and ``LAYER_k_width_mm`` (mm; blank where it has no fabric)."""
+    pieces, bottom, top, _ = case_pieces(result)
+    if not pieces.any:
+        return {}
+    zone = row_zones(pattern.cut_height, pieces, bottom, top)
+    out = {"piece": [f"BAND_{pieces.bands[z].name}" if z >= 0 else "BODY" for z in zone]}
+    for k, panel in enumerate(pieces.panels, start=1):
+        out[f"PANEL_{k}_width_mm"] = [
+            f"{panel.share * c:.4f}" if z < 0 else ""
+            for z, c in zip(zone, pattern.circumference, strict=True)
+        ]
+    for k, layer in enumerate(pieces.layers, start=1):
+        share = (layer.to_deg - layer.from_deg) / 360.0
+        out[f"LAYER_{k}_width_mm"] = [
+            f"{share * c:.4f}" if layer.bottom <= h <= layer.top else ""
+            for h, c in zip(pattern.cut_height, pattern.circumference, strict=True)
+        ]
+    return out
+
+
 #: The columns of ``pattern_pieces.csv``.
 COLUMNS = (
     "piece",
@@ -200,4 +223,12 @@ def piece_rows(pieces: list[PiecePattern]) -> list[dict[str, object]]:
     return rows
 
 
-__all__ = ["COLUMNS", "PiecePattern", "body_parts", "case_pieces", "garment_pieces", "piece_rows"]
+__all__ = [
+    "COLUMNS",
+    "PiecePattern",
+    "body_parts",
+    "case_pieces",
+    "garment_pieces",
+    "pattern_columns",
+    "piece_rows",
+]

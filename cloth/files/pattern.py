@@ -27,7 +27,7 @@ from __future__ import annotations
 
 import csv
 import logging
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from xml.sax.saxutils import escape
@@ -112,10 +112,14 @@ def pattern_of(result: xr.Dataset, cut: str, source: str | Path = "result.nc") -
     )
 
 
-def write_csv(pattern: Pattern, path: Path) -> Path:
+def write_csv(
+    pattern: Pattern, path: Path, columns: Mapping[str, Sequence[str]] | None = None
+) -> Path:
     """The table (module docstring), after one comment line per girth line, ``# girth line NAME
     HEIGHT m`` (its cut height), which a case's ``garment.pattern.file`` places the pattern by
-    (`cloth.garment.cut.read_pattern`)."""
+    (`cloth.garment.cut.read_pattern`). ``columns``: more columns by name, a text per row (a
+    garment of several pieces' `cloth.files.garmentpieces.pattern_columns`)."""
+    columns = dict(columns or {})
     with atomic_output(path) as tmp, tmp.open("w", newline="") as handle:
         writer = csv.writer(handle)  # RFC 4180's CRLF, the comment lines' too
         for name, z in pattern.line_heights:
@@ -129,6 +133,7 @@ def write_csv(pattern: Pattern, path: Path) -> Path:
                 "width_mm",
                 "reduction",
                 "cut",
+                *columns,
             ]
         )
         for j in range(len(pattern.height)):
@@ -142,6 +147,7 @@ def write_csv(pattern: Pattern, path: Path) -> Path:
                     f"{pattern.width[j]:.4f}",
                     reduction,
                     pattern.cut,
+                    *(values[j] for values in columns.values()),
                 ]
             )
     return path

@@ -39,7 +39,12 @@ import xarray as xr
 from cloth.errors import InputError
 from cloth.files.astm import write_nest
 from cloth.files.garmentpieces import COLUMNS as PIECE_COLUMNS
-from cloth.files.garmentpieces import PiecePattern, garment_pieces, piece_rows
+from cloth.files.garmentpieces import (
+    PiecePattern,
+    garment_pieces,
+    pattern_columns,
+    piece_rows,
+)
 from cloth.files.knitting import STEP_MM, check_step, write_knitting
 from cloth.files.pattern import CUTS, Pattern, pattern_of, write_csv, write_dxf, write_svg
 from cloth.files.piece import SEAM_ALLOWANCE_MM, Piece, piece_of
@@ -173,9 +178,11 @@ def write_patterns(
     }
     one = len(results) == 1
     written: list[Path] = []
-    for size, pattern in patterns.items():
+    for (size, pattern), data in zip(patterns.items(), datasets, strict=True):
         stem = output.stem if one else f"{output.stem}_{size}"
-        written += _size_files(pattern, pieces[size], several[size], formats, output, stem, paper)
+        written += _size_files(
+            data, pattern, pieces[size], several[size], formats, output, stem, paper
+        )
     if "astm" in formats:
         nest = output.with_name(f"{output.stem}_astm.dxf")
         written.append(
@@ -204,6 +211,7 @@ def write_patterns(
 
 
 def _size_files(
+    data: xr.Dataset,
     pattern: Pattern,
     pieces: list[Piece],
     several: list[PiecePattern],
@@ -218,7 +226,8 @@ def _size_files(
     written: list[Path] = []
     for name in formats:
         if name == "csv":
-            written.append(write_csv(pattern, output.with_name(f"{stem}.csv")))
+            columns = pattern_columns(data, pattern)
+            written.append(write_csv(pattern, output.with_name(f"{stem}.csv"), columns))
             if several:
                 written.append(
                     write_rows(
