@@ -710,3 +710,21 @@ def test_seams_sit_where_the_panels_meet_at_equilibrium(tmp_path):
         expected = np.array([R * np.sin(phi), -R * np.cos(phi)])
         seam = np.stack([ds["seam_x"].values[k], ds["seam_y"].values[k]], axis=1)
         assert np.abs(seam[1:-1] - expected).max() < 1e-3
+
+
+@pytest.mark.parametrize(
+    ("band", "factor", "e"),
+    [
+        ({"circumference": 0.9 * 2 * np.pi * R}, 1, 1 / 0.9 - 1),  # a cut length, m
+        ({"reduction": 0.1, "layers": 2}, 2, 1 / 0.9 - 1),  # a welt folded double
+    ],
+)
+def test_a_band_cut_to_a_length_or_folded_double(band, factor, e):
+    """A band given by its cut length reads T_band(2 pi R / c - 1) / R; a welt of two plies
+    twice that (its rows stand for two layers of the elastic), within 0.5 %."""
+    spec = {"name": "welt", "material": "elastic25", "at": "top", "width": 0.03, **band}
+    state, _, pressure = equilibrium(cylinder_case({"bands": [spec]}, n=128, m=12))
+    zone = np.asarray(state.row_values("row_band"))
+    middle = np.flatnonzero(zone == 0)[len(np.flatnonzero(zone == 0)) // 2]
+    expected = factor * tension("elastic25", e) / R
+    assert pressure[middle].mean() == pytest.approx(expected, rel=5e-3)
