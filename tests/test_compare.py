@@ -161,6 +161,11 @@ def test_compare_nc_holds_the_csv_s_values_in_si_and_every_column_has_its_row(cy
         (HEADER + ",0.2,inf,20,50,1\n", "row 1, angle_deg"),
         (HEADER + ",0.9,0,20,50,1\n", "row 1, height_m"),
         (HEADER + ",,0,20,50,1\n", "row 1, point"),
+        # a point and a height that disagree (low is at 0.2 m), by more than half a row
+        (HEADER + "low,0.3,0,20,50,1\n", "row 1, height_m"),
+        # kPa or Pa typed as mmHg: past any garment's pressure
+        (HEADER + ",0.2,0,1.7e9,50,1\n", "row 1, pressure_mmHg"),
+        (HEADER + ",0.2,0,20,50,1\n,0.2,90,2660,50,1\n", "row 2, pressure_mmHg"),
     ],
 )
 def test_a_bad_measurements_file_is_one_line_and_exit_2_with_nothing_written(
@@ -174,6 +179,19 @@ def test_a_bad_measurements_file_is_one_line_and_exit_2_with_nothing_written(
     assert len(err) == 1
     assert str(measured) in err[0] and where in err[0], err[0]
     assert not out.exists()
+
+
+def test_a_point_and_a_height_that_agree_are_taken_as_the_point(cylinder, tmp_path):
+    """A row that gives both a point and its height, within half a row of it, is read at the
+    point's height (the result's), as a row of the point alone."""
+    both, alone = tmp_path / "both.csv", tmp_path / "alone.csv"
+    both.write_text(HEADER + "low,0.201,0,20,50,1\n")
+    alone.write_text(HEADER + "low,,0,20,50,1\n")
+    for name, path in (("both", both), ("alone", alone)):
+        assert main(["compare", str(cylinder), str(path), "-o", str(tmp_path / name)]) == 0
+    assert (tmp_path / "both" / "compare.csv").read_text() == (
+        tmp_path / "alone" / "compare.csv"
+    ).read_text().replace(str(alone), str(both))
 
 
 def test_the_shipped_example_is_the_tool_s_readings_plus_its_seeded_noise(tmp_path):

@@ -5,19 +5,25 @@ placed as a case's ``sensors`` are (`cloth.case.reading`):
 
 * where: ``point``, a girth line's name (``B``, ``waist``; its height is the result's), or
   ``height_m``, the probe centre's height on the body (m); one of the two columns at least,
-  and a row gives one of them (``point`` wins where both are given);
+  and a row gives one of them; where it gives both, the point's height on the result must be
+  within half a row of the given height (else the row is refused: one of them is wrong), and
+  the point's is taken;
 * ``angle_deg``: the probe centre's angle about the body's up axis, degrees from +x towards +y
   (the parametric bodies face +y, so 90 is the front); angles wrap, 270 is -90;
-* ``pressure_mmHg``: what the sensor read, mmHg (finite, at least 0);
+* ``pressure_mmHg``: what the sensor read, mmHg: finite, from 0 to `MAX_MMHG` (200 mmHg, far
+  above any garment's, RAL class IV's 49 mmHg included; a value past it was most likely typed
+  in kPa or Pa);
 * ``probe_mm``: the probe's diameter, mm (a PicoPress bladder 50, a Kikuhime 30);
 * optionally ``subject`` (who wore it; empty: one subject) and ``repeat`` (which reading of
   several at one place, 1, 2, ...).
 
 Refused in one line naming the file, the row (the first data row is row 1) and the column: a
-missing column, a pressure that is not a finite number or is below zero, an angle or a height
+missing column, a pressure that is not a finite number, below zero or above `MAX_MMHG`, an
+angle or a height
 that is not a finite number, a probe that is not a positive number, a row that names no place.
 What needs the result to check (an unknown girth line, a probe larger than the girth, a place
-off the garment) is refused by `cloth.results.sensing.locate`, in the same form.
+off the garment, a point whose height disagrees with the row's ``height_m``) is refused by
+`cloth.results.sensing.locate`, in the same form.
 """
 
 from __future__ import annotations
@@ -40,6 +46,10 @@ REQUIRED = ("angle_deg", "pressure_mmHg", "probe_mm")
 PLACES = ("point", "height_m")
 #: Columns read where present.
 OPTIONAL = ("subject", "repeat")
+#: The largest pressure a reading may give, mmHg: no garment presses a body this hard (a
+#: medical class IV stocking, the firmest, is 49 mmHg and up), so a larger value is a unit
+#: slip (kPa or Pa typed as mmHg).
+MAX_MMHG = 200.0
 
 
 @dataclass(frozen=True)
@@ -58,6 +68,9 @@ class Measurements:
     probe: NDArray[np.float64]
     subject: tuple[str, ...]
     repeat: NDArray[np.int64]
+    #: (R,) m: the ``height_m`` a row gives beside its ``point`` (NaN where it gives none), which
+    #: `cloth.results.sensing.locate` checks against the point's height on the result.
+    stated_height: NDArray[np.float64] | None = None
 
     def __len__(self) -> int:
         return len(self.point)
@@ -122,6 +135,7 @@ def read_measurements(path: str | Path) -> Measurements:
             "point",
         )
     point, height, angle, pressure, probe, subject, repeat = [], [], [], [], [], [], []
+    stated = []
     for k, row in enumerate(reader):
         name = (row.get("point") or "").strip()
         raw = (row.get("height_m") or "").strip()
@@ -132,12 +146,21 @@ def read_measurements(path: str | Path) -> Measurements:
                 f"row {k + 1}, point",
             )
         point.append(name)
-        height.append(float("nan") if name else _number(raw, path, k, "height_m", "the height (m)"))
+        given = _number(raw, path, k, "height_m", "the height (m)") if raw else float("nan")
+        height.append(float("nan") if name else given)
+        stated.append(given if name else float("nan"))
         angle.append(wrap_angle(_number(row.get("angle_deg"), path, k, "angle_deg", "the angle")))
         value = _number(row.get("pressure_mmHg"), path, k, "pressure_mmHg", "the pressure")
         if value < 0:
             raise InputError(
                 f"a pressure cannot be below zero, got {value:g} mmHg; check the sensor's zero",
+                path,
+                f"row {k + 1}, pressure_mmHg",
+            )
+        if value > MAX_MMHG:
+            raise InputError(
+                f"{value:g} mmHg is beyond any garment's pressure on a body (0-{MAX_MMHG:g} "
+                f"mmHg); was it typed in kPa or Pa? (1 kPa = {1e3 / MMHG:.2f} mmHg)",
                 path,
                 f"row {k + 1}, pressure_mmHg",
             )
@@ -169,6 +192,7 @@ def read_measurements(path: str | Path) -> Measurements:
         np.array(probe),
         tuple(subject),
         np.array(repeat, dtype=np.int64),
+        np.array(stated),
     )
 
 

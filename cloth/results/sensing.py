@@ -60,6 +60,8 @@ def locate(
     girths = row_girths(x, shape)
     low, high = float(rows_z.min()), float(rows_z.max())
     heights = np.array(measured.height, dtype=float)
+    stated = getattr(measured, "stated_height", None)
+    half_row = 0.5 * float(np.median(np.abs(np.diff(rows_z)))) if len(rows_z) > 1 else 0.0
     for k, name in enumerate(measured.point):
         if not name:
             continue
@@ -69,6 +71,15 @@ def locate(
                 k, "point", f"unknown girth line {name!r}; the result's are {known}"
             )
         heights[k] = lines[name]
+        given = float(stated[k]) if stated is not None else float("nan")
+        if np.isfinite(given) and abs(given - lines[name]) > half_row:
+            raise measured.error(
+                k,
+                "height_m",
+                f"point {name} is at {lines[name]:.4g} m on this result, but the row gives "
+                f"{given:.4g} m, more than half a row ({1e3 * half_row:.3g} mm) from it; give "
+                "one of them, or make them agree",
+            )
     for k, height in enumerate(heights):
         column = "point" if measured.point[k] else "height_m"
         if not low - 1e-9 <= height <= high + 1e-9:
