@@ -246,11 +246,11 @@ def write_result(
         log.warning("%s: the relaxation did not converge; results are marked so", relaxed_path)
     for row in rows:
         judged = "".join(
-            f", {label} {row[key]}"
-            for key, label in (
-                ("compression_class", "class"),
-                ("share_of_class_point", "share"),
-                ("pressure_band", "band"),
+            f", {label} {text(row[key])}"
+            for key, label, text in (
+                ("compression_class", "class", str),
+                ("share_of_class_point", "share", lambda v: f"{float(v):.3g} of the class point's"),
+                ("pressure_band", "band", str),
             )
             if row.get(key) not in (None, "")
         )
