@@ -360,3 +360,20 @@ def test_every_file_the_package_writes_goes_through_the_atomic_writer():
             continue
         found += [f"{name}:{line}" for line in unguarded_writes(path.read_text())]
     assert found == []
+
+
+def test_every_subpackage_is_in_the_wheel_s_package_list():
+    """pyproject.toml lists the wheel's packages by hand (the data/ folder is mapped in as
+    cloth.data, which rules out setuptools' discovery): a new subpackage must be listed too."""
+    import tomllib
+
+    listed = set(
+        tomllib.loads((PACKAGE.parent / "pyproject.toml").read_text())["tool"]["setuptools"][
+            "packages"
+        ]
+    )
+    found = {
+        ".".join(path.parent.relative_to(PACKAGE.parent).parts)
+        for path in PACKAGE.rglob("__init__.py")
+    }
+    assert found <= listed and listed - found == {"cloth.data"}

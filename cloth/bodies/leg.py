@@ -33,9 +33,10 @@ from scipy.interpolate import BPoly, PchipInterpolator
 from cloth.bodies.ranges import girth_cells
 from cloth.bodies.sectioned import SectionedBody, ring_heights, ring_mesh
 from cloth.errors import InputError
+from cloth.shipped import shipped
 
 EXPONENT = 2.0
-DEFAULT_LEG_CHART = Path(__file__).resolve().parents[2] / "data" / "bodies" / "leg_chart.csv"
+DEFAULT_LEG_CHART = shipped("bodies", "leg_chart.csv")
 #: The measuring points, bottom to top: the leg's girth lines.
 POINTS = ("B", "B1", "C", "D", "E", "F", "G")
 #: The leg's ends: this far below B and above G (m), their girths these shares of B's and G's.

@@ -49,11 +49,12 @@ from cloth.bodies import sectioned
 from cloth.bodies.ranges import girth_cells
 from cloth.bodies.sectioned import SectionedBody, ring_heights, ring_mesh
 from cloth.errors import InputError
+from cloth.shipped import shipped
 
 log = logging.getLogger(__name__)
 
 EXPONENT = 2.4
-DEFAULT_CHART = Path(__file__).resolve().parents[2] / "data" / "bodies" / "size_chart.csv"
+DEFAULT_CHART = shipped("bodies", "size_chart.csv")
 #: The torso's girth lines, bottom to top: its landmarks, named in the size chart.
 LANDMARKS = ("hip", "waist", "underbust", "bust")
 GIRTH_KEYS = ("bust_cm", "underbust_cm", "waist_cm", "hip_cm")

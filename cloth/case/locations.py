@@ -49,9 +49,16 @@ def bundled_material(value: str) -> bool:
     return not Path(value).suffix
 
 
+#: The shipped charts an avatar block may name by a word instead of a file.
+CHART_NAMES = ("torso", "leg")
+
+
 def is_path(keys: tuple[str, ...], value: str) -> bool:
     """Whether ``value`` at ``keys`` names a file: always, except a bundled material's name
-    (the case's, or a band's, panel's, layer's or seam's)."""
+    (the case's, or a band's, panel's, layer's or seam's) and a shipped chart's (``chart:
+    leg``)."""
+    if keys[-1] == "chart" and value in CHART_NAMES:
+        return False
     return not (keys[-1] == "material" and bundled_material(value))
 
 
@@ -93,4 +100,12 @@ def relocated(data: dict[str, Any], source: str | Path, target: str | Path) -> d
     return out
 
 
-__all__ = ["BODY_PATH_KEYS", "EVERY", "PATH_KEYS", "bundled_material", "is_path", "relocated"]
+__all__ = [
+    "BODY_PATH_KEYS",
+    "CHART_NAMES",
+    "EVERY",
+    "PATH_KEYS",
+    "bundled_material",
+    "is_path",
+    "relocated",
+]

@@ -25,14 +25,18 @@ import numpy as np
 from numpy.typing import NDArray
 
 from cloth.bodies.avatar import ARM_RAISE_DEG, CROP_MARGIN, LEG_SPREAD_DEG, MODEL, crop
+from cloth.bodies.leg import DEFAULT_LEG_CHART
 from cloth.bodies.mesh import MeshBody
 from cloth.bodies.torso import DEFAULT_CHART
 from cloth.errors import InputError
 from cloth.io import atomic_output, sha256
 from cloth.paths import input_file
+from cloth.shipped import data_dir
 
+#: The shipped charts an avatar block may name instead of a file (``chart: leg``).
+SHIPPED_CHARTS = {"torso": DEFAULT_CHART, "leg": DEFAULT_LEG_CHART}
 #: Where the default charts' avatars ship.
-SHIPPED = Path(__file__).resolve().parents[2] / "data" / "bodies" / "avatars"
+SHIPPED = data_dir() / "bodies" / "avatars"
 #: The sidecar's format (its ``cloth_avatar`` key).
 FORMAT = 1
 LICENCES = "Anny: Apache-2.0 (NAVER Corp.); MakeHuman assets: CC0"
@@ -185,7 +189,9 @@ def avatar_mesh(spec: dict, base_dir: str | Path = ".") -> Path:
             )
         return path
     chart = DEFAULT_CHART
-    if "chart" in spec:
+    if spec.get("chart") in SHIPPED_CHARTS:  # a shipped chart by name, from any folder
+        chart = SHIPPED_CHARTS[spec["chart"]]
+    elif "chart" in spec:
         chart = input_file(spec["chart"], base_dir, None, "body.avatar.chart", "size chart")
     found = shipped(chart, spec["size"])
     if found is None:

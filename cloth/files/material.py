@@ -36,9 +36,10 @@ from cloth.io import global_attrs, read_netcdf, resolve, to_attr, variable
 from cloth.materials.curves import DIRECTIONS, Fabric, StressStrainCurve
 from cloth.materials.labtables import Material, ingest
 from cloth.paths import input_file, path_form
+from cloth.shipped import shipped
 
 KIND = "material"
-DATA_MATERIALS = Path(__file__).resolve().parents[2] / "data" / "materials"
+DATA_MATERIALS = shipped("materials")
 
 
 def curve_variables(prefix: str, curve: StressStrainCurve) -> dict[str, xr.Variable]:

@@ -25,11 +25,12 @@ from cloth.bodies.torso import DEFAULT_CHART
 from cloth.bodies.wearers import Wearers
 from cloth.errors import InputError
 from cloth.io import atomic_output, sha256
+from cloth.shipped import shipped
 
 #: Where the default charts' wearers ship.
-SHIPPED = Path(__file__).resolve().parents[2] / "data" / "bodies" / "wearers"
+SHIPPED = shipped("bodies", "wearers")
 #: Where the shipped populations are (data/bodies/README.md).
-POPULATIONS = Path(__file__).resolve().parents[2] / "data" / "bodies" / "population"
+POPULATIONS = shipped("bodies", "population")
 #: The default population of the torso chart's wearers: US NHANES 2017-2020.
 DEFAULT_POPULATION = POPULATIONS / "nhanes_2017_2020_women.csv"
 #: The default population of the leg chart's wearers and size charts: US Army ANSUR II women.

@@ -1,0 +1,33 @@
+"""The data the package ships, found where the package is: the example fabrics, the size
+charts, the avatars, the wearers of the default charts' sizes, the populations and the
+measurement example (issue 70).
+
+They live in the repository's top-level ``data/`` (its README there says what each file is,
+with its licence and provenance); the wheel and the sdist map that folder into the package as
+``cloth/data`` (``pyproject.toml``: ``package-dir``), so an installed package finds them through
+`importlib.resources`, from any working folder, and a clone (an editable install) finds its own
+``data/`` beside the package: one copy either way.
+"""
+
+from __future__ import annotations
+
+from importlib.resources import files
+from pathlib import Path
+
+
+def data_dir() -> Path:
+    """The folder of the shipped data: ``cloth/data`` in an installed package, else the
+    repository's ``data/`` beside the package."""
+    packaged = files("cloth") / "data"
+    if packaged.is_dir():
+        return Path(str(packaged))
+    return Path(__file__).resolve().parents[1] / "data"
+
+
+def shipped(*parts: str) -> Path:
+    """The shipped file or folder at ``parts`` under `data_dir` (e.g. ``shipped("materials",
+    "powernet.csv")``)."""
+    return data_dir().joinpath(*parts)
+
+
+__all__ = ["data_dir", "shipped"]

@@ -1,0 +1,120 @@
+"""The package carries its data (issue 70, item 1): the wheel holds every shipped file under
+cloth/data and no tests, and an installed copy runs cases that name only shipped defaults from
+an empty folder, outside the repository (the torso M in the power net, the leg's avatar M).
+
+The wheel is installed without its dependencies into a folder on PYTHONPATH, ahead of the
+checkout's editable install, and run with the test's interpreter (whose dependencies are
+installed): the fresh virtual environment with dependencies of the issue's acceptance is not
+built here yet."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+import zipfile
+from pathlib import Path
+
+import pytest
+import xarray as xr
+import yaml
+
+pytestmark = pytest.mark.slow
+
+ROOT = Path(__file__).resolve().parents[1]
+CASES = {
+    "torso": {
+        "material": "powernet",
+        "body": {"torso": {"size": "M"}},
+        "garment": {"bottom": 0.9, "top": 1.15, "reduction": 0.15, "grid": [24, 8]},
+    },
+    "leg_avatar": {
+        "material": "powernet",
+        "body": {"avatar": {"chart": "leg", "size": "M"}},
+        "garment": {
+            "bottom": 0.09,
+            "top": 0.45,
+            "reduction": 0.15,
+            "lengthwise_reduction": 0.15,
+            "grid": [24, 12],
+        },
+    },
+}
+
+
+@pytest.fixture(scope="module")
+def installed(tmp_path_factory) -> Path:
+    where = tmp_path_factory.mktemp("wheel")
+    built = subprocess.run(
+        [sys.executable, "-m", "pip", "wheel", str(ROOT), "--no-deps", "-q", "-w", str(where)],
+        capture_output=True,
+        text=True,
+        cwd=where,
+    )
+    assert built.returncode == 0, built.stderr[-2000:]
+    (wheel,) = where.glob("cloth-*.whl")
+    target = where / "site"
+    done = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "pip",
+            "install",
+            "-q",
+            "--no-deps",
+            "--target",
+            str(target),
+            str(wheel),
+        ],
+        capture_output=True,
+        text=True,
+    )
+    assert done.returncode == 0, done.stderr[-2000:]
+    return wheel
+
+
+def test_the_wheel_holds_the_shipped_data_and_no_tests(installed):
+    names = zipfile.ZipFile(installed).namelist()
+    shipped = {str(p.relative_to(ROOT / "data")) for p in (ROOT / "data").rglob("*") if p.is_file()}
+    inside = {n.removeprefix("cloth/data/") for n in names if n.startswith("cloth/data/")}
+    assert shipped <= inside
+    assert not [n for n in names if n.startswith(("tests/", "cloth/tests", "results"))]
+    assert not [n for n in names if n.endswith(".nc")]  # no result, no material.nc
+
+
+@pytest.mark.parametrize("name", sorted(CASES))
+def test_an_installed_copy_runs_shipped_defaults_from_an_empty_folder(installed, tmp_path, name):
+    folder = tmp_path / "empty"
+    folder.mkdir()
+    (folder / "case.yaml").write_text(yaml.safe_dump(CASES[name]))
+    env = {**os.environ, "PYTHONPATH": str(installed.parent / "site"), "MPLBACKEND": "Agg"}
+    done = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "cloth",
+            "run",
+            "case.yaml",
+            "-o",
+            "out",
+            "--stop-after",
+            "aggregate",
+        ],
+        cwd=folder,
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=600,
+    )
+    assert done.returncode == 0, done.stderr[-3000:]
+    with xr.open_dataset(folder / "out" / "result.nc") as result:
+        assert int(result.attrs["converged"]) == 1
+        assert len(result["landmark"]) >= 2  # the shipped chart's girth lines
+    where = subprocess.run(
+        [sys.executable, "-c", "import cloth; print(cloth.__file__)"],
+        cwd=folder,
+        capture_output=True,
+        text=True,
+        env=env,
+    ).stdout.strip()
+    assert where.startswith(str(installed.parent / "site")), where
