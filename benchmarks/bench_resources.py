@@ -21,7 +21,7 @@ import numpy as np
 import yaml
 from _table import markdown_table, replace_section
 
-from cloth.pipeline.config import validate_case
+from cloth.case.case import validate_case
 from cloth.pipeline.resources import measure_stage, stage_resources
 
 

@@ -16,7 +16,7 @@ from typing import Any
 
 from hypothesis import strategies as st
 
-from cloth.pipeline.config import case_schema
+from cloth.case.validate import case_schema
 
 #: A valid case on a tiny grid (24 nodes): it runs every stage in about a second.
 TINY = {

@@ -15,6 +15,7 @@ MAX_LINES = 600
 #: The wings, top to bottom: a module may import its own wing and the wings below it, never one
 #: above (docs/architecture.md). "" is the ground floor: cloth itself, errors, io, progress.
 ORDER = (
+    "api",
     "cli",
     "stages",
     "pipeline",

@@ -225,7 +225,7 @@ def test_a_girth_the_model_cannot_reach_is_refused_naming_it_and_its_range(tmp_p
 def test_an_avatar_case_written_back_validates_again():
     """An avatar case's mapping (what case.yaml files the tool writes hold) carries no mesh
     option the avatar refuses, so a written case runs as written (cloth design, cloth wearers)."""
-    from cloth.pipeline.config import validate_case
+    from cloth.case.case import validate_case
 
     case = validate_case(
         {

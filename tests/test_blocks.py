@@ -12,9 +12,9 @@ import pytest
 import xarray as xr
 import yaml
 
+from cloth.case.validate import case_schema
 from cloth.cli import build_parser, main
 from cloth.cli.blocks import apply_block
-from cloth.pipeline.config import case_schema
 
 ROOT = Path(__file__).resolve().parents[1]
 TABLE = str(ROOT / "data" / "materials" / "powernet.csv")

@@ -60,7 +60,7 @@ def test_version_help_and_refusals_import_no_stage(argv):
 
 def test_a_verb_imports_its_stage_when_it_runs(tmp_path):
     loaded = _modules_loaded(["case", "check", str(tmp_path / "missing.yaml")])
-    assert "cloth.pipeline.config" in loaded
+    assert "cloth.case.validate" in loaded
     assert "cloth.stages.design" not in loaded  # another verb's stage stays out
 
 

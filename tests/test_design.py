@@ -422,7 +422,7 @@ def test_a_target_at_a_height_becomes_a_girth_line(tmp_path):
     ],
 )
 def test_the_cut_auto_is_a_tube_on_a_leg_and_two_panels_elsewhere(body, cut, expected):
-    from cloth.pipeline.config import validate_case
+    from cloth.case.case import validate_case
     from cloth.stages.graded import cut_of
 
     case = validate_case(

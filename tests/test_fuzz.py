@@ -26,11 +26,11 @@ from hypothesis import HealthCheck, given, settings
 
 from cloth.bodies.leg import POINTS, leg_size
 from cloth.case import Case
+from cloth.case.case import validate_case
 from cloth.cli import main
 from cloth.errors import InputError
 from cloth.files.material import KIND, fabric_from_dataset
 from cloth.io import read_netcdf
-from cloth.pipeline.config import validate_case
 from cloth.results.targets import Target
 from tests.fuzz import TINY, bad_cases, corrupted_text, odd_paths, odd_targets
 

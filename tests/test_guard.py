@@ -161,8 +161,8 @@ def test_the_estimate_follows_the_backend_relax_will_take(tmp_path):
     1,793 and 3,228 MiB, docs/performance.md)."""
     from dataclasses import replace
 
+    from cloth.case.case import validate_case
     from cloth.cli import main
-    from cloth.pipeline.config import validate_case
     from cloth.pipeline.guard import takes_cholesky
 
     pytest.importorskip("cholespy")

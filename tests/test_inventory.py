@@ -373,7 +373,7 @@ def _effective(case, key: str):
 
 
 def test_every_default_is_the_schema_s_the_case_s_and_the_one_docs_config_states(tmp_path):
-    from cloth.pipeline.config import validate_case
+    from cloth.case.case import validate_case
     from tests.conftest import capped_cylinder, write_obj
 
     rows = {(r.file, r.name): r for r in inventory.rows() if r.unit.startswith("default:")}
@@ -486,7 +486,7 @@ def test_every_default_is_the_one_the_code_applies_and_its_types_own():
     and the type's own default (a library user's `Settings()`) is the same."""
     import dataclasses
 
-    from cloth.pipeline.config import validate_case
+    from cloth.case.case import validate_case
 
     garment = {"bottom": 0.1, "top": 0.4, "reduction": 0.15, "grid": [16, 8]}
     base = {"material": "powernet", "body": {"cylinder": {"radius": 0.1}}, "garment": garment}

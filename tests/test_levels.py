@@ -14,11 +14,11 @@ import pytest
 import xarray as xr
 
 from cloth.bodies.torso import chart_size, torso_mesh
+from cloth.case.case import validate_case
 from cloth.errors import InputError
 from cloth.files.levels import read_levels
 from cloth.files.material import load_fabric
 from cloth.io import write_netcdf
-from cloth.pipeline.config import validate_case
 from cloth.results.resolution import mesh_spacing, row_spacing
 from cloth.stages.levels import coarser_grids
 from cloth.stages.results import write_result

@@ -15,10 +15,10 @@ import pytest
 import xarray as xr
 from scipy.interpolate import PchipInterpolator
 
+from cloth.case.case import validate_case
 from cloth.case.profile import Profile
 from cloth.errors import InputError
 from cloth.files.pattern import pattern_of, write_csv, write_pattern
-from cloth.pipeline.config import validate_case
 from tests.conftest import load_result, run_result
 
 RADIUS = 0.1

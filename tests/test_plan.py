@@ -12,8 +12,8 @@ import pytest
 import yaml
 
 from cloth.case import Case
+from cloth.case.case import validate_case
 from cloth.errors import InputError
-from cloth.pipeline.config import validate_case
 from cloth.pipeline.plan import (
     body_files,
     data_path,

@@ -54,8 +54,8 @@ def _summary_row(
     (cloth.files.result)."""
     import json
 
+    from cloth.case.case import validate_case
     from cloth.files.result import summary_rows, write_summary
-    from cloth.pipeline.config import validate_case
 
     pa = mmhg * PA_PER_MMHG
     attrs: dict[str, object] = {"converged": 1}

@@ -7,7 +7,7 @@ import sys
 import pytest
 import yaml
 
-from cloth.pipeline.config import validate_case
+from cloth.case.case import validate_case
 from cloth.pipeline.resources import measure_stage, stage_resources
 from tests.pipeline import ROOT
 

@@ -10,10 +10,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from cloth.case.case import validate_case
 from cloth.files.body import body_from_config
 from cloth.files.material import load_fabric
 from cloth.garment.predeform import predeform
-from cloth.pipeline.config import validate_case
 from cloth.results.fields import node_fields
 from cloth.results.richardson import estimate_levels, grid_spacing, richardson
 from cloth.solvers import Settings, relax

@@ -17,9 +17,9 @@ from scipy.spatial import ConvexHull
 
 from cloth.bodies.mesh import MeshBody
 from cloth.bodies.sections import hull_girth
+from cloth.case.case import validate_case
 from cloth.case.reading import Reading
 from cloth.errors import InputError
-from cloth.pipeline.config import validate_case
 from cloth.results.bands import probe_readings
 from cloth.stages.levels import MIN_AROUND, MIN_ROWS, coarser_grids
 from tests import inventory

@@ -113,16 +113,17 @@ def test_later_stages_find_the_body_from_the_state_file_and_refuse_a_changed_one
 
 
 def test_a_case_is_validated_once_where_it_enters(tmp_path, monkeypatch):
-    import cloth.pipeline.config
+    import cloth.case.validate
+    from cloth.case.case import load_case, validate_case
 
     calls = []
-    real = cloth.pipeline.config.Validator
+    real = cloth.case.validate.Validator
 
     def counting(*args, **kwargs):
         calls.append(1)
         return real(*args, **kwargs)
 
-    monkeypatch.setattr(cloth.pipeline.config, "Validator", counting)
+    monkeypatch.setattr(cloth.case.validate, "Validator", counting)
     case = _case(tmp_path)
     base = ["--log-level", "WARNING"]
     assert (
@@ -147,5 +148,5 @@ def test_a_case_is_validated_once_where_it_enters(tmp_path, monkeypatch):
         == 0
     )
     assert len(calls) == 2
-    valid = cloth.pipeline.config.load_case(case)
-    assert cloth.pipeline.config.validate_case(valid) is valid and len(calls) == 3
+    valid = load_case(case)
+    assert validate_case(valid) is valid and len(calls) == 3

@@ -7,10 +7,10 @@ import pytest
 from scipy.optimize import brentq
 
 from cloth.case import Tissue
+from cloth.case.case import validate_case
 from cloth.errors import InputError
 from cloth.files.body import body_from_config
 from cloth.garment.grid import WEFT, node_area
-from cloth.pipeline.config import validate_case
 from cloth.results.pressure import contact_reaction
 from cloth.solvers import Settings, relax
 from cloth.solvers.newton import stiffness_at

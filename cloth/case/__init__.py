@@ -1,7 +1,7 @@
 """The case, typed: `Case` and its blocks (`cloth.case.case`), the solver's `Settings`, and the
 skin models' `Tissue`, `Contact` and `Skin`."""
 
-from cloth.case.case import BODY_KINDS, BodySpec, Case, GarmentSpec
+from cloth.case.case import BODY_KINDS, BodySpec, Case, GarmentSpec, load_case, validate_case
 from cloth.case.reading import Reading, Sensor
 from cloth.case.settings import LINEAR_SOLVERS, METHODS, Settings
 from cloth.case.skin import SLIP_FRACTION, Band, Contact, Skin, Tissue
@@ -21,4 +21,6 @@ __all__ = [
     "Settings",
     "Skin",
     "Tissue",
+    "load_case",
+    "validate_case",
 ]

@@ -1,6 +1,6 @@
 """The case, typed: one simulation's fabric, body, garment, skin and solver, frozen.
 
-`Case.from_dict` builds it from a case mapping that `cloth.pipeline.config.validate_case`
+`Case.from_dict` builds it from a case mapping that `cloth.case.case.validate_case`
 checked against the schema and filled with defaults (or one read back from a state file, which
 was). Each block is its own type, read by attribute, never by string key:
 
@@ -32,6 +32,7 @@ from __future__ import annotations
 import copy
 from collections.abc import Mapping
 from dataclasses import dataclass, field
+from pathlib import Path
 from types import MappingProxyType
 from typing import Any
 
@@ -41,9 +42,8 @@ from cloth.case.profile import Profile
 from cloth.case.reading import Reading
 from cloth.case.settings import Settings
 from cloth.case.skin import Contact, Skin, Tissue
+from cloth.case.validate import BODY_KINDS, checked_mapping, read_mapping
 from cloth.errors import InputError
-
-BODY_KINDS = ("mesh", "avatar", "torso", "leg", "cylinder", "elliptic_cylinder", "cone")
 
 
 @dataclass(frozen=True)
@@ -188,8 +188,38 @@ class Case:
         return isinstance(other, Case) and self._data == other._data
 
     @classmethod
+    def load(cls, path: str | Path) -> Case:
+        """The case in the YAML file ``path``, validated as the command validates it (the
+        schema, its defaults, every block's checks); `InputError` naming the file and the key.
+        Its relative paths are relative to the file's folder where a stage reads them.
+
+        Examples
+        --------
+        >>> import cloth
+        >>> case = cloth.Case.load("case.yaml")  # doctest: +SKIP
+        """
+        return load_case(path)
+
+    @classmethod
+    def of(cls, data: Mapping[str, Any], source: str = "case") -> Case:
+        """The case of the mapping ``data`` (as a case file holds it), validated as the
+        command validates it; `InputError` naming ``source`` and the key.
+
+        Examples
+        --------
+        >>> import cloth
+        >>> case = cloth.Case.of(
+        ...     {"material": "powernet", "body": {"torso": {"size": "M"}},
+        ...      "garment": {"bottom": 0.9, "top": 1.15, "reduction": 0.15, "grid": [24, 8]}}
+        ... )
+        >>> case.garment.grid
+        (24, 8)
+        """
+        return validate_case(copy.deepcopy(dict(data)), source)
+
+    @classmethod
     def from_dict(cls, data: Mapping[str, Any], source: str = "case") -> Case:
-        """The typed case of a validated mapping (`cloth.pipeline.config.validate_case`);
+        """The typed case of a validated mapping (`cloth.case.case.validate_case`);
         `InputError` naming ``source`` and the field where a block does not hold."""
         data = copy.deepcopy(dict(data))
         try:
@@ -233,6 +263,25 @@ class Case:
             reading=Reading.from_blocks(data.get("girth_reading"), data.get("sensors")),
             fabric_scale=float(data.get("fabric_scale", 1.0)),
         )
+
+
+def validate_case(case: Case | dict[str, Any], source: str | Path = "case") -> Case:
+    """The typed case of a case mapping: checked against the schema, its defaults filled
+    (`cloth.case.validate.checked_mapping`), then built (`Case.from_dict`, which checks what
+    each block's type knows). A `Case` is returned as it is: it was validated where it entered
+    the process (the plan, a case file, a command's JSON, a state file), and functions handed
+    one do not validate it again.
+
+    Raises `InputError` naming ``source`` and the key path of the first problem.
+    """
+    if isinstance(case, Case):
+        return case
+    return Case.from_dict(checked_mapping(case, source), str(source))
+
+
+def load_case(path: str | Path) -> Case:
+    """Read and validate a YAML case file (`validate_case`)."""
+    return Case.from_dict(read_mapping(path), str(path))
 
 
 #: Solver keys whose defaults follow the case's skin (`Case._build`): Newton without friction

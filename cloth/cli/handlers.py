@@ -229,8 +229,8 @@ def predeform(args: argparse.Namespace) -> int:
 def case_write(args: argparse.Namespace) -> int:
     import json
 
+    from cloth.case.case import validate_case
     from cloth.files.casefile import write_case
-    from cloth.pipeline.config import validate_case
 
     try:
         case = json.loads(args.json)
@@ -243,7 +243,7 @@ def case_write(args: argparse.Namespace) -> int:
 def case_check(args: argparse.Namespace) -> int:
     import yaml
 
-    from cloth.pipeline.config import load_case
+    from cloth.case.case import load_case
 
     print(yaml.safe_dump(load_case(args.case).to_dict(), sort_keys=False), end="")
     return 0

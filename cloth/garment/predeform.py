@@ -199,7 +199,7 @@ def predeform(
     Parameters
     ----------
     case : Case
-        The case (`cloth.pipeline.config.validate_case`; docs/config.md).
+        The case (`cloth.case.case.validate_case`; docs/config.md).
     fabric : Fabric
         The case's material (`cloth.files.material.load_fabric`).
     body : Body

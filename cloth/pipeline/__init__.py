@@ -1,6 +1,5 @@
 """The pipeline around the stages: cases, plans, sweeps, and what jobs ask for.
 
-* `cloth.pipeline.config`: a case file validated against its schema;
 * `cloth.pipeline.plan`: every case of a pipeline config, by name, and the file layout;
 * `cloth.pipeline.variants`: the sweep's skin and wear variants;
 * `cloth.pipeline.sweep`: sweeps and the design answer;

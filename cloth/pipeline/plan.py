@@ -26,10 +26,10 @@ from cloth.bodies.leg import POINTS as LEG_POINTS
 from cloth.bodies.torso import DEFAULT_CHART
 from cloth.bodies.torso import LANDMARKS as TORSO_LANDMARKS
 from cloth.case import Case
+from cloth.case.case import validate_case
 from cloth.errors import InputError
 from cloth.files.avatar import avatar_mesh
 from cloth.paths import input_file
-from cloth.pipeline.config import validate_case
 from cloth.pipeline.layout import DEFAULT, Layout, results_folder
 from cloth.pipeline.sizecharts import SizeChartRun, size_chart_runs
 from cloth.pipeline.variants import Variant, sweep_variants

@@ -30,13 +30,12 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.optimize import least_squares
 
-from cloth.case.case import following_skin
+from cloth.case.case import following_skin, load_case, validate_case
 from cloth.errors import EXIT_DIVERGED, InputError, StageFailed
 from cloth.files.body import body_from_record
 from cloth.files.casefile import write_case
 from cloth.files.measured import Measurements, read_measurements
 from cloth.io import atomic_folder
-from cloth.pipeline.config import load_case, validate_case
 from cloth.pipeline.sweep import write_rows
 from cloth.results.agreement import average_repeats, pooled_sd
 from cloth.results.calibration import PARAMETERS, Interval, Parameter, determined, intervals

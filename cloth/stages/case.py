@@ -16,6 +16,7 @@ from pathlib import Path
 import xarray as xr
 
 from cloth.case import Case
+from cloth.case.case import load_case, validate_case
 from cloth.errors import EXIT_DIVERGED, InputError, StageFailed
 from cloth.files.body import body_from_config, body_from_record
 from cloth.files.levels import level_variables, mark_values
@@ -28,7 +29,6 @@ from cloth.garment.predeform import predeform
 from cloth.garment.state import State
 from cloth.io import write_netcdf
 from cloth.pipeline import guard
-from cloth.pipeline.config import load_case, validate_case
 from cloth.results.landmarks import landmark_heights
 from cloth.solvers import Diverged, relax
 from cloth.solvers.problem import Problem

@@ -38,11 +38,11 @@ import xarray as xr
 from cloth.bodies.leg import DEFAULT_LEG_CHART, read_leg_chart
 from cloth.bodies.torso import DEFAULT_CHART, read_chart
 from cloth.case import Case
+from cloth.case.case import load_case
 from cloth.errors import InputError
 from cloth.figures.plots import save_figure
 from cloth.files.piece import SEAM_ALLOWANCE_MM
 from cloth.paths import input_file
-from cloth.pipeline.config import load_case
 from cloth.pipeline.designplots import plot_profile_design
 from cloth.pipeline.sweep import write_rows
 from cloth.results.targets import Target

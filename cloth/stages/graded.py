@@ -36,12 +36,12 @@ import numpy as np
 import xarray as xr
 
 from cloth.case import Case
+from cloth.case.case import load_case
 from cloth.errors import InputError
 from cloth.files.body import body_from_record
 from cloth.files.casefile import write_case
 from cloth.files.pattern import CUTS
 from cloth.files.piece import SEAM_ALLOWANCE_MM
-from cloth.pipeline.config import load_case
 from cloth.pipeline.designplots import plot_profile_design
 from cloth.pipeline.sweep import write_rows
 from cloth.results.pressure import MMHG

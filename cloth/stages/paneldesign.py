@@ -24,12 +24,12 @@ import xarray as xr
 
 from cloth.bodies import Body
 from cloth.case import Case
+from cloth.case.case import load_case
 from cloth.errors import InputError
 from cloth.files.body import body_from_record
 from cloth.files.casefile import write_case
 from cloth.garment.predeform import predeform
 from cloth.garment.state import State
-from cloth.pipeline.config import load_case
 from cloth.pipeline.sweep import write_rows
 from cloth.results.landmarks import landmark_heights
 from cloth.results.pressure import MMHG

@@ -28,9 +28,9 @@ import logging
 import math
 from pathlib import Path
 
+from cloth.case.case import load_case
 from cloth.files.casefile import write_case
 from cloth.io import read_netcdf
-from cloth.pipeline.config import load_case
 from cloth.pipeline.sweep import mean_error
 from cloth.results.pressure import MMHG
 from cloth.stages.case import run_case

@@ -11,10 +11,10 @@ from pathlib import Path
 from cloth.bodies.leg import DEFAULT_LEG_CHART
 from cloth.bodies.torso import DEFAULT_CHART
 from cloth.case import Case
+from cloth.case.case import load_case
 from cloth.errors import InputError
 from cloth.files.population import AGES, ALIASES, Population
 from cloth.files.wearers import default_population
-from cloth.pipeline.config import load_case
 from cloth.results.sizechart import Band
 from cloth.results.targets import Target
 

@@ -42,11 +42,11 @@ from numpy.typing import NDArray
 from cloth.bodies.avatar import ChartTargets, chart_rows, chart_targets
 from cloth.bodies.leg import ABOVE, BELOW
 from cloth.bodies.person import person_body, template_girths
+from cloth.case.case import load_case
 from cloth.case.locations import relocated
 from cloth.files.material import case_fabric
 from cloth.files.population import read_population
 from cloth.io import atomic_output
-from cloth.pipeline.config import load_case
 from cloth.progress import progress
 from cloth.results.pressure import MMHG
 from cloth.results.sizechart import Band, Chart, People, Size, design_chart

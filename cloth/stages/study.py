@@ -32,12 +32,12 @@ from pathlib import Path
 
 import yaml
 
+from cloth.case.case import load_case, validate_case
 from cloth.case.locations import relocated
 from cloth.errors import InputError
 from cloth.files.casefile import write_case
 from cloth.files.measured import read_measurements
 from cloth.io import atomic_folder, read_netcdf, resolve
-from cloth.pipeline.config import load_case, validate_case
 from cloth.results.agreement import Compared
 from cloth.stages.case import run_case
 from cloth.stages.compare import RESULT_VARIABLES, compare_result, write_compared

@@ -26,10 +26,10 @@ import numpy as np
 import xarray as xr
 
 from cloth.bodies.wearers import SIZE
+from cloth.case.case import load_case
 from cloth.errors import InputError
 from cloth.files.body import body_from_record
 from cloth.files.casefile import write_case
-from cloth.pipeline.config import load_case
 from cloth.pipeline.sweep import write_rows
 from cloth.results.pressure import MMHG
 from cloth.results.targets import Target

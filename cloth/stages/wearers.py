@@ -41,11 +41,11 @@ import yaml
 
 from cloth.bodies.wearers import SIZE
 from cloth.case import Case
+from cloth.case.case import load_case
 from cloth.case.judge import Judge
 from cloth.case.locations import relocated
 from cloth.files.wearers import body_wearers, read_index
 from cloth.io import atomic_output, global_attrs, variable, write_netcdf
-from cloth.pipeline.config import load_case
 from cloth.pipeline.wearers import wearer_blocks
 from cloth.progress import progress
 from cloth.results.pressure import MMHG

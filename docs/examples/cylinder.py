@@ -7,7 +7,7 @@ import numpy as np
 from cloth.files.body import body_from_config
 from cloth.files.material import load_fabric
 from cloth.garment.predeform import predeform
-from cloth.pipeline.config import validate_case
+from cloth.case.case import validate_case
 from cloth.results.fields import node_fields
 from cloth.solvers import Settings, relax
 

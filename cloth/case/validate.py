@@ -1,4 +1,5 @@
-"""Case files: load, validate against the JSON Schema, fill defaults, type (`cloth.case.Case`).
+"""Case files: load, validate against the JSON Schema, fill defaults (`cloth.case.case` types
+them: `validate_case`, `load_case`, `Case.load`, `Case.of`).
 
 One simulation = one YAML case (schema: ``cloth/schemas/case.schema.yaml``, documented in
 docs/config.md). Errors name the file and the key path, e.g.
@@ -17,10 +18,11 @@ from typing import Any
 import jsonschema
 import yaml
 
-from cloth.case import BODY_KINDS, Case
 from cloth.errors import InputError
 from cloth.paths import shown
 
+#: The body kinds a case's ``body`` block names one of.
+BODY_KINDS = ("mesh", "avatar", "torso", "leg", "cylinder", "elliptic_cylinder", "cone")
 MESH_ONLY = (
     "units",
     "up",
@@ -131,16 +133,12 @@ def _fill_defaults(schema: dict[str, Any], data: Any) -> None:
             _fill_defaults(sub, data[key])
 
 
-def validate_case(case: Case | dict[str, Any], source: str | Path = "case") -> Case:
-    """The typed case of a case mapping: checked against the schema, its defaults filled, then
-    built (`Case.from_dict`, which checks what each block's type knows). A `Case` is returned as
-    it is: it was validated where it entered the process (the plan, a case file, a command's
-    JSON, a state file), and functions handed one do not validate it again.
-
-    Raises `InputError` naming ``source`` and the key path of the first problem.
+def checked_mapping(case: Any, source: str | Path = "case") -> dict[str, Any]:
+    """A case mapping checked against the schema and its defaults filled: what
+    `cloth.case.case.validate_case` builds the typed `Case` from (which then checks what each
+    block's type knows). Raises `InputError` naming ``source`` and the key path of the first
+    problem.
     """
-    if isinstance(case, Case):
-        return case
     if not isinstance(case, dict):
         raise InputError("a case must be a mapping of keys to values", source)
     case = _text_keys(case)
@@ -207,7 +205,7 @@ def validate_case(case: Case | dict[str, Any], source: str | Path = "case") -> C
     _body_defaults(case["body"], kinds[0])
     if pattern is not None and "body" in pattern:
         _body_defaults(pattern["body"], _check_body(pattern["body"], source, "")[0])
-    return Case.from_dict(case, str(source))
+    return case
 
 
 def _check_body(body: dict[str, Any], source: str | Path, field: str) -> list[str]:
@@ -253,8 +251,8 @@ def _text_keys(case: dict[str, Any]) -> dict[str, Any]:
     return case
 
 
-def load_case(path: str | Path) -> Case:
-    """Read and validate a YAML case file."""
+def read_mapping(path: str | Path) -> dict[str, Any]:
+    """A YAML case file's mapping, checked (`checked_mapping`); `InputError` naming the file."""
     path = Path(path)
     if not path.is_file():
         raise InputError("case file not found; check the path", path)
@@ -264,4 +262,4 @@ def load_case(path: str | Path) -> Case:
         mark = getattr(exc, "problem_mark", None)
         where = f"line {mark.line + 1}" if mark else None
         raise InputError(f"not valid YAML ({getattr(exc, 'problem', exc)})", path, where) from None
-    return validate_case(case, path)
+    return checked_mapping(case, path)
