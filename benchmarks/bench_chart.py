@@ -22,8 +22,8 @@ import numpy as np
 from _table import markdown_table, publish
 
 from cloth.case import Case
-from cloth.files.body import body_from_record
 from cloth.case.case import validate_case
+from cloth.files.body import body_from_record
 from cloth.results.pressure import MMHG
 from cloth.results.targets import Target
 from cloth.stages.case import initial_state

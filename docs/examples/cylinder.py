@@ -4,10 +4,10 @@ wings; tests/test_examples.py runs it)."""
 
 import numpy as np
 
+from cloth.case.case import validate_case
 from cloth.files.body import body_from_config
 from cloth.files.material import load_fabric
 from cloth.garment.predeform import predeform
-from cloth.case.case import validate_case
 from cloth.results.fields import node_fields
 from cloth.solvers import Settings, relax
 
