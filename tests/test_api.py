@@ -84,3 +84,21 @@ def test_a_fabric_and_a_body_by_their_shipped_names():
     assert distance[0] == pytest.approx(0.1) and normal[0] == pytest.approx([1.0, 0.0, 0.0])
     with pytest.raises(cloth.InputError, match="unknown material"):
         cloth.material("nosuchnet")
+
+
+def test_the_python_tutorial_runs_as_written(tmp_path, monkeypatch):
+    """docs/tutorials/python.md's blocks, in order, in an empty folder: its runs, its sweep in
+    a loop (the waist's pressure rises with the reduction), its figure and its xarray read."""
+    import re
+    from pathlib import Path
+
+    page = Path(__file__).resolve().parents[1] / "docs" / "tutorials" / "python.md"
+    code = re.findall(r"```python\n(.*?)```", page.read_text(), flags=re.S)
+    assert len(code) >= 4
+    monkeypatch.chdir(tmp_path)
+    space: dict = {}
+    for block in code:
+        exec(compile(block, str(page), "exec"), space)
+    assert space["waist"] == sorted(space["waist"])
+    assert (tmp_path / "waist.png").stat().st_size > 5_000
+    assert (tmp_path / "runs" / "r150" / "result.nc").is_file()
