@@ -6,7 +6,8 @@ They live in the repository's top-level ``data/`` (its README there says what ea
 with its licence and provenance); the wheel and the sdist map that folder into the package as
 ``cloth/data`` (``pyproject.toml``: ``package-dir``), so an installed package finds them through
 `importlib.resources`, from any working folder, and a clone (an editable install) finds its own
-``data/`` beside the package: one copy either way.
+``data/`` beside the package: one copy either way. The workflow (``workflow/``) and the example
+configs (``config/``) are mapped in the same way, as ``cloth/workflow`` and ``cloth/config``.
 """
 
 from __future__ import annotations
@@ -24,10 +25,20 @@ def data_dir() -> Path:
     return Path(__file__).resolve().parents[1] / "data"
 
 
+def workflow_dir() -> Path:
+    """The folder of the Snakemake workflow (its ``Snakefile``, rules, schemas): ``cloth/
+    workflow`` in an installed package, else the repository's ``workflow/`` (`cloth pipeline`
+    runs it; the repository's top-level Snakefile includes it)."""
+    packaged = files("cloth") / "workflow"
+    if packaged.is_dir():
+        return Path(str(packaged))
+    return Path(__file__).resolve().parents[1] / "workflow"
+
+
 def shipped(*parts: str) -> Path:
     """The shipped file or folder at ``parts`` under `data_dir` (e.g. ``shipped("materials",
     "powernet.csv")``)."""
     return data_dir().joinpath(*parts)
 
 
-__all__ = ["data_dir", "shipped"]
+__all__ = ["data_dir", "shipped", "workflow_dir"]

@@ -118,3 +118,47 @@ def test_an_installed_copy_runs_shipped_defaults_from_an_empty_folder(installed,
         env=env,
     ).stdout.strip()
     assert where.startswith(str(installed.parent / "site")), where
+
+
+def test_an_installed_copy_starts_a_project_and_runs_its_pipeline_there(installed, tmp_path):
+    """``cloth init demo`` then ``cloth pipeline`` in it, with the installed copy: the
+    package's own workflow runs on the starter's config (its grid made smaller) and its
+    results land in the project's folder; then the README's Python example runs there."""
+    import re
+
+    env = {**os.environ, "PYTHONPATH": str(installed.parent / "site"), "MPLBACKEND": "Agg"}
+    done = subprocess.run(
+        [sys.executable, "-m", "cloth", "init", "demo"],
+        cwd=tmp_path,
+        capture_output=True,
+        text=True,
+        env=env,
+    )
+    assert done.returncode == 0, done.stderr
+    demo = tmp_path / "demo"
+    config = demo / "config.yaml"
+    config.write_text(config.read_text().replace("grid: [48, 16]", "grid: [24, 8]"))
+    done = subprocess.run(
+        [sys.executable, "-m", "cloth", "pipeline", "--cores", "2", "results/sweep.csv"],
+        cwd=demo,
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=900,
+    )
+    assert done.returncode == 0, done.stderr[-3000:]
+    assert str(installed.parent / "site" / "cloth" / "workflow") in done.stderr  # its own
+    rows = (demo / "results" / "sweep.csv").read_text().splitlines()
+    assert len(rows) > 2 and rows[0].startswith("material,body")
+    readme = (ROOT / "README.md").read_text()
+    (example,) = re.findall(r"```python\n(.*?)```", readme, flags=re.S)
+    done = subprocess.run(
+        [sys.executable, "-c", example.replace("demo/case.yaml", "case.yaml")],
+        cwd=demo,
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=600,
+    )
+    assert done.returncode == 0, done.stderr[-3000:]
+    assert "waist" in done.stdout

@@ -41,7 +41,11 @@ def check_outputs(args: argparse.Namespace) -> None:
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the ``cloth`` command; returns the exit status."""
     parser = build_parser()
-    args = parser.parse_args(argv)
+    args, extra = parser.parse_known_args(argv)
+    if extra and getattr(args, "handler", None) != "pipeline":
+        parser.error(f"unrecognized arguments: {' '.join(extra)}")
+    if getattr(args, "handler", None) == "pipeline":  # Snakemake's own options pass through
+        args.snakemake_args = [*extra, *args.snakemake_args]
     logging.basicConfig(
         level=getattr(logging, args.log_level),
         format="%(asctime)s %(levelname)s %(name)s: %(message)s",

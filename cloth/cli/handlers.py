@@ -442,3 +442,16 @@ def confirm(args: argparse.Namespace) -> int:
 
     confirm_file(args.design, args.results, args.output, args.iterate)
     return 0
+
+
+def init(args: argparse.Namespace) -> int:
+    from cloth.stages.project import init_project
+
+    init_project(args.folder)
+    return 0
+
+
+def pipeline(args: argparse.Namespace) -> int:
+    from cloth.stages.project import pipeline as run_pipeline
+
+    return run_pipeline(args.configfile, args.snakemake_args)

@@ -10,6 +10,7 @@ from cloth import __version__
 from cloth.cli.argtypes import path_argument, pattern_options, size_names
 from cloth.cli.designcommand import add_design_command
 from cloth.cli.measurecommands import add_measure_commands
+from cloth.cli.projectcommands import add_project_commands
 from cloth.cli.sizecommands import add_sizes_command
 from cloth.cli.wearercommands import add_wearers_commands
 from cloth.errors import EXIT_INPUT
@@ -316,6 +317,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     add_wearers_commands(commands, body_commands, path_argument, solver_options)
     add_sizes_command(commands, path_argument, solver_options)
+    add_project_commands(commands)
     add_measure_commands(commands, path_argument, solver_options)
 
     agg = commands.add_parser(

@@ -35,17 +35,23 @@ from cloth.pipeline.sizecharts import SizeChartRun, size_chart_runs
 from cloth.pipeline.variants import Variant, sweep_variants
 from cloth.pipeline.wearers import WearersRun, wearer_runs
 from cloth.results.targets import config_targets
+from cloth.shipped import shipped
 
 
 def data_path(path: str, base: str | Path | None) -> str:
     """``path`` as given where it exists (or is absolute, or ``base`` is None), else the
-    bundled file ``base / path`` where that exists, else as given (its rule then reports it
-    missing)."""
+    bundled file ``base / path`` where that exists, else, for a path into ``data/``, the
+    package's shipped file (`cloth.shipped`: an installed package runs its workflow from its
+    own folder, its data beside it), else as given (its rule then reports it missing)."""
     given = Path(path)
     if base is None or given.is_absolute() or given.exists():
         return path
     bundled = Path(base) / given
-    return str(bundled) if bundled.exists() else path
+    if bundled.exists():
+        return str(bundled)
+    if given.parts[:1] == ("data",) and shipped(*given.parts[1:]).exists():
+        return str(shipped(*given.parts[1:]))
+    return path
 
 
 def local_body(
