@@ -272,7 +272,11 @@ def material(source: str | Path) -> Fabric:
 def body(block: Mapping[str, Any], base_dir: str | Path = ".") -> Body:
     """A body from a case's ``body`` block (``{"torso": {"size": "M"}}``, ``{"avatar":
     {"chart": "leg", "size": "M"}}``, ``{"mesh": "scan.obj", "units": "mm"}``), as a case
-    reads it; its ``query(points)`` gives signed distances, closest points and normals (m)."""
+    reads it.
+
+    Its ``query(points)``, points (N, 3) float in m, gives the signed distances (N,) m
+    (positive outside), the closest surface points (N, 3) m and the unit outward normals
+    (N, 3); ``girth(height)`` the girth at a height (m)."""
     return body_from_config(dict(block), base_dir)[0]
 
 

@@ -105,7 +105,9 @@ def init_project(folder: str | Path) -> list[Path]:
 def pipeline(configfile: str | Path = "config.yaml", args: list[str] | None = None) -> int:
     """Run the package's workflow (module docstring) in the working folder on ``configfile``,
     Snakemake's own options ``args`` passed through (``--cores``, ``-n``, ``--profile``, a
-    target, ...); its exit status. ``--cores all`` where no cores, jobs or profile is given."""
+    target, ...); its exit status. ``--cores all`` where no cores, jobs or profile is given; a
+    ``--profile`` by name is the package's (``--profile slurm``, docs/cluster.md) unless this
+    folder has one of that name."""
     args = list(args or [])
     config = Path(configfile)
     if not config.is_file():
@@ -116,6 +118,7 @@ def pipeline(configfile: str | Path = "config.yaml", args: list[str] | None = No
         )
     if not any(a.split("=")[0] in ("--cores", "-c", "--jobs", "-j", "--profile") for a in args):
         args = ["--cores", "all", *args]
+    args = [_profile(a, args[k - 1] if k else "") for k, a in enumerate(args)]
     bin_dir = Path(sys.executable).parent
     here = shutil.which("snakemake", path=str(bin_dir))
     command = [here] if here else [sys.executable, "-m", "snakemake"]
@@ -124,6 +127,15 @@ def pipeline(configfile: str | Path = "config.yaml", args: list[str] | None = No
     env = {**os.environ, "PATH": f"{bin_dir}{os.pathsep}{os.environ.get('PATH', '')}"}
     log.info("running %s", " ".join(command))
     return subprocess.call(command, env=env)
+
+
+def _profile(value: str, before: str) -> str:
+    """``value`` after ``--profile``: a folder of that name here, else the package's own
+    profile of that name (``default``, ``slurm``: ``workflow/profiles/``), else as given."""
+    if before != "--profile" or Path(value).exists():
+        return value
+    packaged = workflow_dir() / "profiles" / value
+    return str(packaged) if packaged.is_dir() else value
 
 
 __all__ = ["CASE", "CONFIG", "STARTER", "init_project", "pipeline"]
