@@ -19,7 +19,6 @@ Examples
 
 from __future__ import annotations
 
-import csv
 import tempfile
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
@@ -30,7 +29,7 @@ import xarray as xr
 
 from cloth.bodies import Body
 from cloth.case import Case
-from cloth.case.case import load_case, validate_case
+from cloth.case.case import validate_case
 from cloth.errors import InputError
 from cloth.files.body import body_from_config
 from cloth.files.casefile import write_case
@@ -280,26 +279,13 @@ def body(block: Mapping[str, Any], base_dir: str | Path = ".") -> Body:
     return body_from_config(dict(block), base_dir)[0]
 
 
-def read_summary(path: str | Path) -> list[dict[str, str]]:
-    """A summary.csv's rows (one per girth line), as text, without pandas."""
-    with Path(path).open() as handle:
-        return list(csv.DictReader(handle))
-
-
-def load(path: str | Path) -> Case:
-    """The case in a YAML file (`cloth.Case.load`)."""
-    return load_case(path)
-
-
 __all__ = [
     "Run",
     "body",
     "calibrate",
     "compare",
     "design",
-    "load",
     "material",
-    "read_summary",
     "run",
     "sizes",
 ]

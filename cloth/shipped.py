@@ -16,23 +16,25 @@ from importlib.resources import files
 from pathlib import Path
 
 
+def _folder(name: str) -> Path:
+    """``cloth/NAME`` in an installed package, else the repository's top-level ``NAME/``."""
+    packaged = files("cloth") / name
+    if packaged.is_dir():
+        return Path(str(packaged))
+    return Path(__file__).resolve().parents[1] / name
+
+
 def data_dir() -> Path:
     """The folder of the shipped data: ``cloth/data`` in an installed package, else the
     repository's ``data/`` beside the package."""
-    packaged = files("cloth") / "data"
-    if packaged.is_dir():
-        return Path(str(packaged))
-    return Path(__file__).resolve().parents[1] / "data"
+    return _folder("data")
 
 
 def workflow_dir() -> Path:
     """The folder of the Snakemake workflow (its ``Snakefile``, rules, schemas): ``cloth/
     workflow`` in an installed package, else the repository's ``workflow/`` (`cloth pipeline`
     runs it; the repository's top-level Snakefile includes it)."""
-    packaged = files("cloth") / "workflow"
-    if packaged.is_dir():
-        return Path(str(packaged))
-    return Path(__file__).resolve().parents[1] / "workflow"
+    return _folder("workflow")
 
 
 def shipped(*parts: str) -> Path:

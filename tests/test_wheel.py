@@ -93,13 +93,20 @@ def installed(tmp_path_factory) -> Path:
     return wheel
 
 
-def environment(installed: Path) -> tuple[str, dict[str, str]]:
-    """The fresh environment's python, and the environment to run it in: its bin first on the
-    path, no PYTHONPATH (nothing of the repository on sys.path)."""
+def fresh_python(installed: Path, *args: str, cwd: Path, timeout: float = 600):
+    """``python ARGS`` of the fresh environment in ``cwd``: its bin first on the path, no
+    PYTHONPATH (nothing of the repository on sys.path); the finished process."""
     bin_dir = installed.parent.parent / "site" / "bin"
     env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "VIRTUAL_ENV")}
     env.update(PATH=f"{bin_dir}{os.pathsep}{env.get('PATH', '')}", MPLBACKEND="Agg")
-    return str(bin_dir / "python"), env
+    return subprocess.run(
+        [str(bin_dir / "python"), *args],
+        cwd=cwd,
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=timeout,
+    )
 
 
 def test_the_wheel_holds_the_shipped_data_and_no_tests(installed):
@@ -116,36 +123,24 @@ def test_an_installed_copy_runs_shipped_defaults_from_an_empty_folder(installed,
     folder = tmp_path / "empty"
     folder.mkdir()
     (folder / "case.yaml").write_text(yaml.safe_dump(CASES[name]))
-    python, env = environment(installed)
-    done = subprocess.run(
-        [
-            python,
-            "-m",
-            "cloth",
-            "run",
-            "case.yaml",
-            "-o",
-            "out",
-            "--stop-after",
-            "aggregate",
-        ],
+    done = fresh_python(
+        installed,
+        "-m",
+        "cloth",
+        "run",
+        "case.yaml",
+        "-o",
+        "out",
+        "--stop-after",
+        "aggregate",
         cwd=folder,
-        capture_output=True,
-        text=True,
-        env=env,
-        timeout=600,
     )
     assert done.returncode == 0, done.stderr[-3000:]
     with xr.open_dataset(folder / "out" / "result.nc") as result:
         assert int(result.attrs["converged"]) == 1
         assert len(result["landmark"]) >= 2  # the shipped chart's girth lines
-    where = subprocess.run(
-        [python, "-c", "import cloth; print(cloth.__file__)"],
-        cwd=folder,
-        capture_output=True,
-        text=True,
-        env=env,
-    ).stdout.strip()
+    where = fresh_python(installed, "-c", "import cloth; print(cloth.__file__)", cwd=folder)
+    where = where.stdout.strip()
     assert where.startswith(str(installed.parent.parent / "site")), where
 
 
@@ -155,24 +150,20 @@ def test_an_installed_copy_starts_a_project_and_runs_its_pipeline_there(installe
     results land in the project's folder; then the README's Python example runs there."""
     import re
 
-    python, env = environment(installed)
-    done = subprocess.run(
-        [python, "-m", "cloth", "init", "demo"],
-        cwd=tmp_path,
-        capture_output=True,
-        text=True,
-        env=env,
-    )
+    done = fresh_python(installed, "-m", "cloth", "init", "demo", cwd=tmp_path)
     assert done.returncode == 0, done.stderr
     demo = tmp_path / "demo"
     config = demo / "config.yaml"
     config.write_text(config.read_text().replace("grid: [48, 16]", "grid: [24, 8]"))
-    done = subprocess.run(
-        [python, "-m", "cloth", "pipeline", "--cores", "2", "results/sweep.csv"],
+    done = fresh_python(
+        installed,
+        "-m",
+        "cloth",
+        "pipeline",
+        "--cores",
+        "2",
+        "results/sweep.csv",
         cwd=demo,
-        capture_output=True,
-        text=True,
-        env=env,
         timeout=900,
     )
     assert done.returncode == 0, done.stderr[-3000:]
@@ -181,13 +172,6 @@ def test_an_installed_copy_starts_a_project_and_runs_its_pipeline_there(installe
     assert len(rows) > 2 and rows[0].startswith("material,body")
     readme = (ROOT / "README.md").read_text()
     (example,) = re.findall(r"```python\n(.*?)```", readme, flags=re.S)
-    done = subprocess.run(
-        [python, "-c", example.replace("demo/case.yaml", "case.yaml")],
-        cwd=demo,
-        capture_output=True,
-        text=True,
-        env=env,
-        timeout=600,
-    )
+    done = fresh_python(installed, "-c", example.replace("demo/case.yaml", "case.yaml"), cwd=demo)
     assert done.returncode == 0, done.stderr[-3000:]
     assert "waist" in done.stdout

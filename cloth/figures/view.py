@@ -171,7 +171,8 @@ def view_figure(ds: xr.Dataset, body: tuple[NDArray, NDArray] | None = None):
                 ],
             }
         )
-    for k, line in enumerate([*body_seams(ds), *body_edges(ds)]):
+    seams = body_seams(ds)
+    for k, line in enumerate([*seams, *body_edges(ds)]):
         traces.append(
             go.Scatter3d(
                 x=line[:, 0],
@@ -179,7 +180,7 @@ def view_figure(ds: xr.Dataset, body: tuple[NDArray, NDArray] | None = None):
                 z=line[:, 2],
                 mode="lines",
                 line={"color": "white", "width": 3, "dash": "dash"},
-                name="seam" if k < len(body_seams(ds)) else "band edge",
+                name="seam" if k < len(seams) else "band edge",
                 hoverinfo="name",
                 showlegend=False,
             )

@@ -119,11 +119,10 @@ def tributary_boundaries(
     for j in range(len(heights) - 1):
         if zone[j] == zone[j + 1]:
             continue
-        band = pieces.bands[zone[j] if zone[j] >= 0 else zone[j + 1]]
-        low, high = band.span(bottom, top)
-        edge = high if zone[j] >= 0 else low  # the band below ends, or the band above starts
-        if zone[j] >= 0 and zone[j + 1] >= 0:
+        if zone[j] >= 0:  # the band below ends (another may start there)
             edge = pieces.bands[zone[j]].span(bottom, top)[1]
+        else:  # the band above starts
+            edge = pieces.bands[zone[j + 1]].span(bottom, top)[0]
         mid[j] = np.interp(edge, heights, rest_v)
     return np.concatenate(([rest_v[0]], mid, [rest_v[-1]]))
 

@@ -114,7 +114,6 @@ class _Garment:
 
     pieces: Pieces
     fabrics: Mapping[str, Fabric]  # name -> fabric as the grid sees it (weft around)
-    body: str  # the base material where there are no panels
 
     def thickness(self, name: str) -> float:
         return self.fabrics[name].thickness
@@ -245,7 +244,7 @@ def spring_materials(
     n, m = grid.n, grid.m
     names = tuple(dict.fromkeys([body, *pieces.materials]))
     number = {name: k for k, name in enumerate(names)}
-    garment = _Garment(pieces, fabrics, body)
+    garment = _Garment(pieces, fabrics)
     v = grid.rest_uv[::n, 1]
     width = grid.rest_length[grid.family_slices[WEFT]].reshape(m, n).sum(axis=1)
     layers_v = [

@@ -28,7 +28,6 @@ from cloth.case.case import load_case
 from cloth.errors import InputError
 from cloth.files.body import body_from_record
 from cloth.files.casefile import write_case
-from cloth.garment.predeform import predeform
 from cloth.garment.state import State
 from cloth.pipeline.sweep import write_rows
 from cloth.results.landmarks import landmark_heights
@@ -36,8 +35,7 @@ from cloth.results.pressure import MMHG
 from cloth.results.targets import Target
 from cloth.solvers.relax import relax
 from cloth.stages.case import initial_state, run_case
-from cloth.stages.cuts import state_cut
-from cloth.stages.design import AIM, TOLERANCE, line_means
+from cloth.stages.design import AIM, TOLERANCE, line_means, repredeform
 from cloth.stages.graded import judge_confirmed
 
 log = logging.getLogger(__name__)
@@ -153,16 +151,9 @@ def panel_design(
 
     def solve(width: float, start: State) -> tuple[float, State]:
         case = Case.from_dict(with_width(state.case.to_dict(), panel, width), source)
-        fresh = predeform(
-            case,
-            start.fabric,
-            body,
-            start.body,
-            source,
-            pattern=state_cut(start, case),
-            fabrics=start.fabrics,
-        )
-        fresh = fresh.with_positions(start.x)  # warm: the same grid, other fabrics
+        fresh = repredeform(start, case, body, source).with_positions(
+            start.x
+        )  # warm: the same grid, other fabrics
         result = relax(fresh, body, settings)
         solved = fresh.with_positions(result.final.x)
         means = line_means(solved, result, lines, body)
