@@ -245,6 +245,8 @@ def test_a_band_presses_its_own_tension_over_r(tmp_path):
         z = ds.z.values.mean(axis=1)
         middle = int(np.argmin(np.abs(z - float(ds.landmark_height[band]))))
         assert rows[middle] == pytest.approx(tension("elastic25", e) / R, rel=5e-3)
+        # the band's line is read over the band alone, not the power net beside it
+        assert float(ds.pressure_mean[band]) == pytest.approx(tension("elastic25", e) / R, rel=1e-2)
         beside = names.index("waistband_beside")
         expected = tension("powernet", strain_at("powernet", 0) * 0 + 1 / 0.8 - 1) / R
         assert float(ds.pressure_mean[beside]) == pytest.approx(expected, rel=5e-3)
