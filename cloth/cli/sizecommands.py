@@ -97,7 +97,8 @@ def add_sizes_command(
         "--rounds",
         type=_count,
         default=2,
-        help="the most rounds of search and confirmation (default 2)",
+        help="the most rounds of confirmation: the searched chart's, then each of its sizes not "
+        "confirmed recut from what its equilibria read (default 2)",
     )
     ages_option(sizes)
     sizes.add_argument("-o", "--output", type=path, required=True, help="output folder")

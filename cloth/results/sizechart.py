@@ -36,14 +36,14 @@ Units: girths and circumferences in m, pressure in Pa, weights as the population
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import NDArray
 
 from cloth.bodies.wearers import weighted_quantile
-from cloth.results.tubemodel import LineModel
+from cloth.results.tubemodel import Correction, LineModel
 
 #: Bisection steps of a size's end (relative precision about 2^-60 of the bracket).
 STEPS = 60
@@ -79,6 +79,24 @@ class Size:
     rest: dict[str, float]
     members: NDArray[np.intp]
     fits: NDArray[np.bool_]
+    #: line -> the fast model's correction from the size's own equilibria, where it was
+    #: recut (`cloth.results.recut`); none as searched
+    corrections: Mapping[str, Correction] = field(default_factory=dict)
+    #: how many times the size was recut from its confirmations (0: as searched)
+    recuts: int = 0
+
+    def pressure(
+        self,
+        models: Mapping[str, LineModel],
+        line: str,
+        girth: NDArray[np.float64],
+        offset: NDArray[np.float64],
+    ) -> NDArray[np.float64]:
+        """The mean pressure (Pa) at ``line`` of this size's row there on people of
+        ``girth`` (m) and shape term ``offset`` (Pa): the fast model's, corrected where the
+        size was recut."""
+        fast = models[line].pressure(girth, self.rest[line], offset)
+        return self.corrections.get(line, Correction())(fast)
 
 
 @dataclass(frozen=True)
@@ -243,6 +261,26 @@ def inside(
         ok = here if ok is None else ok & here
     assert ok is not None
     return ok
+
+
+def extreme_wearers(
+    size: Size, people: People, models: Mapping[str, LineModel], lines: Sequence[str]
+) -> dict[str, int]:
+    """A size's extreme wearers: of its members who fit (all its members where none does),
+    at each of ``lines`` the one of the lowest and the one of the highest pressure by the full
+    fast model (`Size.pressure`: her girth and her shape term), named ``{line}_min`` and
+    ``{line}_max``; a person already named is not named again. Name -> person index."""
+    members = size.members[size.fits] if size.fits.any() else size.members
+    out: dict[str, int] = {}
+    if len(members) == 0:
+        return out
+    for line in lines:
+        p = size.pressure(models, line, people.girth[line][members], people.offset[line][members])
+        for end, k in (("min", int(np.argmin(p))), ("max", int(np.argmax(p)))):
+            person = int(members[k])
+            if person not in out.values():
+                out[f"{line}_{end}"] = person
+    return out
 
 
 def _sizes_over(edges: NDArray[np.float64], values: NDArray[np.float64]) -> list[NDArray[np.intp]]:
@@ -432,6 +470,7 @@ __all__ = [
     "chain",
     "cover",
     "design_chart",
+    "extreme_wearers",
     "inside",
     "offset_range",
     "span",

@@ -173,4 +173,35 @@ class LineModel:
         return g / (1.0 + self.tension.strain_at(needed))
 
 
-__all__ = ["Calibration", "LineModel", "Tension", "laplace"]
+@dataclass(frozen=True)
+class Correction:
+    """A size's correction of the fast model from its own equilibria (`cloth.results.recut`):
+    the pressure a wearer reads is ``shift + scale x`` the fast model's (``shift`` Pa,
+    ``scale`` 1 and > 0, so the order of the wearers is the fast model's)."""
+
+    shift: float = 0.0
+    scale: float = 1.0
+
+    def __call__(self, pressure: ArrayLike) -> NDArray[np.float64]:
+        """The corrected pressure (Pa) of fast-model pressures ``pressure`` (Pa, any shape)."""
+        return self.shift + self.scale * np.asarray(pressure, dtype=float)
+
+    @classmethod
+    def fit(cls, fast: ArrayLike, read: ArrayLike) -> Correction:
+        """Least squares of the equilibria's ``read`` (N,) Pa on the fast model's ``fast``
+        (N,) Pa where they spread and the slope is positive; else the mean difference (a
+        shift alone); none where no pair is finite."""
+        f = np.asarray(fast, dtype=float)
+        r = np.asarray(read, dtype=float)
+        keep = np.isfinite(f) & np.isfinite(r)
+        f, r = f[keep], r[keep]
+        if len(f) == 0:
+            return cls()
+        if len(f) > 1 and np.ptp(f) > 1e-9 * max(float(np.max(np.abs(f))), 1.0):
+            scale, shift = np.polyfit(f, r, 1)
+            if np.isfinite(scale) and scale > 0:
+                return cls(float(shift), float(scale))
+        return cls(float(np.mean(r - f)), 1.0)
+
+
+__all__ = ["Calibration", "Correction", "LineModel", "Tension", "laplace"]

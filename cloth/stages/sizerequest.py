@@ -24,7 +24,8 @@ class Request:
     """What ``cloth sizes`` is asked: the ``population`` file, the target ``bands``, the sizing
     measures ``by`` (chart names, primary first), the ``coverage`` (0-1), the most sizes and
     variants per size, the ``ages`` kept, the search ``margin`` (Pa; None: from the fast
-    model's error, module docstring) and the most ``rounds`` of search and confirmation."""
+    model's error, module docstring) and the most ``rounds`` of confirmation (the searched
+    chart's, then the recut sizes')."""
 
     population: Path
     bands: tuple[Band, ...]

@@ -17,8 +17,11 @@ chart designed for a measured population, one garment per size, confirmed by equ
    ranges), each a parametric leg or torso of her measures (`cloth.bodies.person`) wearing the
    size's pattern, cut for the size's body in ``chart.csv`` and placed by the lowest girth
    line. A size is confirmed where every confirmation converged and is inside every band.
-5. Where one is not, the confirmations join the calibration and the chart is searched and
-   confirmed again, up to ``rounds`` times.
+5. Where one is not, it is **recut** from what its own equilibria read (`cloth.results.recut`:
+   its cut moved so the confirmed extremes are centred in the band, or its range narrowed
+   where they spread wider than the band) and confirmed again, up to ``rounds`` rounds in all.
+   A size still not confirmed is written with ``confirmed`` 0, and the command ends with
+   `shortfall_of`'s one line, exit status 2 (`cloth.stages.sizeruns`).
 
 Each run is a plain ``cloth run`` of the ``case.yaml`` written beside it. Last, each size's
 garment runs on its own body (``{size}/``, the size's row of ``chart.csv``), and a stocking's
@@ -32,7 +35,7 @@ import csv
 import logging
 import os
 import shutil
-from dataclasses import dataclass, field
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -49,10 +52,12 @@ from cloth.files.population import read_population
 from cloth.io import atomic_output
 from cloth.progress import progress
 from cloth.results.pressure import MMHG
-from cloth.results.sizechart import Band, Chart, People, Size, design_chart
+from cloth.results.recut import recut
+from cloth.results.sizechart import Chart, People, Size, design_chart, extreme_wearers
 from cloth.results.tubemodel import Calibration, LineModel, Tension, laplace
 from cloth.stages.case import run_case
 from cloth.stages.sizerequest import Request, measure_names, template_of
+from cloth.stages.sizeruns import Confirmation, Run, confirmed, shortfall
 
 log = logging.getLogger(__name__)
 
@@ -64,31 +69,6 @@ REDUCTION = (0.0, 0.89)
 INSET = 0.002
 #: Quantiles of the primary measure whose people calibrate the fast model.
 CALIBRATE_AT = (0.05, 0.5, 0.95)
-
-
-@dataclass
-class Run:
-    """One equilibrium: who wore what (``girth``: line -> m, ``rest``: line -> m), where it
-    ran, and what it read (line -> Pa; ``error`` the stated discretisation error, NaN where
-    none), whether it converged."""
-
-    name: str
-    folder: Path
-    girth: dict[str, float]
-    rest: dict[str, float]
-    features: dict[str, NDArray[np.float64]]
-    pressure: dict[str, float] = field(default_factory=dict)
-    error: dict[str, float] = field(default_factory=dict)
-    converged: bool = False
-
-
-@dataclass
-class Confirmation:
-    """A size's confirmations: its runs, by wearer."""
-
-    size: Size
-    runs: list[Run]
-    wearers: dict[str, int]  # wearer name -> person index
 
 
 def _cm(row: dict[str, str], column: str) -> float:
@@ -390,29 +370,21 @@ class Sizing:
         return rows
 
     def extremes(self, size: Size, models: dict[str, LineModel]) -> dict[str, int]:
-        """The size's extreme wearers by the fast ``models`` (module docstring, step 4): name
-        -> person index."""
-        members = size.members[size.fits] if size.fits.any() else size.members
-        out: dict[str, int] = {}
-        for line in self.lines:
-            g = self.girths[line][members]
-            offset = models[line].calibration.offset(self.features[line][members])
-            p = models[line].pressure(g, size.rest[line], offset)
-            for end, k in (("min", int(np.argmin(p))), ("max", int(np.argmax(p)))):
-                person = int(members[k])
-                if person not in out.values():
-                    out[f"{line}_{end}"] = person
-        return out
+        """The size's extreme wearers by the fast ``models`` (module docstring, step 4;
+        `cloth.results.sizechart.extreme_wearers`): name -> person index."""
+        return extreme_wearers(size, self.population(models), models, self.lines)
 
     def confirm(
-        self, chart: Chart, chart_path: Path, models: dict[str, LineModel]
+        self, sizes: list[Size], chart_path: Path, models: dict[str, LineModel]
     ) -> list[Confirmation]:
-        """Step 4: every size on its extreme wearers by the fast ``models``."""
+        """Step 4: every size of ``sizes`` on its extreme wearers by the fast ``models``
+        (its corrected model where it was recut), each in ``{size}/confirm/`` anew."""
         found = []
         jobs = []
-        for size in chart.sizes:
+        for size in sizes:
             wearers = self.extremes(size, models) if len(size.members) else {}
             folder = self.output / size.name / "confirm"
+            shutil.rmtree(folder, ignore_errors=True)  # a recut size's wearers may change
             rows = [self.person_row(p, n) for n, p in wearers.items()]
             if rows:
                 self.write_chart(rows, folder / "people.csv")
@@ -433,6 +405,37 @@ class Sizing:
             confirmation.runs.append(run)
         return found
 
+    def recut(
+        self, chart: Chart, confirmations: list[Confirmation], models: dict[str, LineModel]
+    ) -> tuple[Chart, list[Confirmation]]:
+        """Step 5: each size not confirmed recut from its confirmations
+        (`cloth.results.recut`) and confirmed again, the others as they were; the chart of
+        them (chart.csv rewritten, its coverage recounted) and their confirmations."""
+        out = list(confirmations)
+        again = []
+        people = self.population(models)
+        for k, c in enumerate(confirmations):
+            if confirmed(c, self.bands):
+                continue
+            found = recut(c.size, c.reads(), people, models, self.bands)
+            log.info("%s %s: %s", c.size.name, "recut" if found.size else "not recut", found.why)
+            if found.size is None:
+                out[k] = replace(c, why=f"no recut holds it: {found.why}")
+                continue
+            out[k] = replace(c, size=found.size, why=found.why)
+            again.append(k)
+        sizes = [c.size for c in out]
+        weight = self.people.weight
+        total = float(weight[chart.people].sum())
+        fitted = sum(float(weight[s.members[s.fits]].sum()) for s in sizes)
+        chart = replace(chart, sizes=tuple(sizes), coverage=fitted / total if total else 0.0)
+        if again:
+            self.write_chart(self.size_rows(chart), self.output / "chart.csv")
+            found = self.confirm([out[k].size for k in again], self.output / "chart.csv", models)
+            for k, c in zip(again, found, strict=True):
+                out[k] = replace(c, why=out[k].why)
+        return chart, out
+
     def size_cases(self, chart: Chart, chart_path: Path) -> list[Path]:
         """Each size's ``{size}/case.yaml`` (its garment as a pattern on its own body, the
         size's row of chart.csv) run into ``{size}/`` (its result.nc gives the knitting
@@ -452,20 +455,6 @@ class Sizing:
         return results
 
 
-def confirmed(confirmation: Confirmation, bands: dict[str, Band]) -> bool:
-    """Whether every run of a size converged and is inside every band (limits included)."""
-    if not confirmation.runs:
-        return False
-    for run in confirmation.runs:
-        if not run.converged:
-            return False
-        for line, band in bands.items():
-            p = run.pressure.get(line, float("nan"))
-            if not band.low - 1e-9 * band.high <= p <= band.high * (1 + 1e-9):
-                return False
-    return True
-
-
 @dataclass
 class Outcome:
     """What ``cloth sizes`` found: the final chart and its confirmations, every round's, the
@@ -479,46 +468,48 @@ class Outcome:
     rounds: int
 
 
+def shortfall_of(outcome: Outcome) -> str | None:
+    """The command's last line where a size is not confirmed (`cloth.stages.sizeruns.
+    shortfall`); None where every size is."""
+    sizing = outcome.sizing
+    return shortfall(outcome.confirmations, sizing.bands, sizing.people.ids, outcome.rounds)
+
+
 def design_sizes(case_path: Path, request: Request, output: Path, overrides: dict) -> Outcome:
     """Steps 1-5 of the module docstring into ``output``; the tables and the figure are
     `cloth.stages.sizetables.write_sizes`'."""
     sizing = Sizing(case_path, request, output, overrides)
     calibration = sizing.calibrate()
     chart_path = output / "chart.csv"
-    previous: list[str] = []
-    for round_ in range(1, request.rounds + 1):
-        models = sizing.models()
-        errors = sizing.errors(models)
-        for line in sizing.lines:
-            log.info(
-                "round %d: the fast model at %s: hoop %.3f, shape terms %s Pa; rms error "
-                "%.2f mmHg on %d equilibria",
-                round_,
-                line,
-                models[line].calibration.hoop,
-                np.array2string(models[line].calibration.shape, precision=0),
-                errors[line] / MMHG,
-                len(sizing.calibration[line][2]),
-            )
-        chart = sizing.search(models)
+    models = sizing.models()
+    errors = sizing.errors(models)
+    for line in sizing.lines:
         log.info(
-            "round %d: %d sizes cover %.1f %% of %d people (asked %.1f %%), each held over "
-            "the central %.0f %% of their shape terms",
-            round_,
-            len(chart.sizes),
-            100 * chart.coverage,
-            len(chart.people),
-            100 * request.coverage,
-            100 * chart.shape_share,
+            "the fast model at %s: hoop %.3f, shape terms %s Pa; rms error %.2f mmHg on %d "
+            "equilibria",
+            line,
+            models[line].calibration.hoop,
+            np.array2string(models[line].calibration.shape, precision=0),
+            errors[line] / MMHG,
+            len(sizing.calibration[line][2]),
         )
-        for name in previous:  # a size of the round before that this chart no longer has
-            shutil.rmtree(output / name, ignore_errors=True)
-        previous = [size.name for size in chart.sizes]
-        sizing.write_chart(sizing.size_rows(chart), chart_path)
-        confirmations = sizing.confirm(chart, chart_path, models)
-        if all(confirmed(c, sizing.bands) for c in confirmations) or round_ == request.rounds:
-            break
-        sizing.learn([run for c in confirmations for run in c.runs])
+    chart = sizing.search(models)
+    log.info(
+        "%d sizes cover %.1f %% of %d people (asked %.1f %%), each held over the central "
+        "%.0f %% of their shape terms",
+        len(chart.sizes),
+        100 * chart.coverage,
+        len(chart.people),
+        100 * request.coverage,
+        100 * chart.shape_share,
+    )
+    sizing.write_chart(sizing.size_rows(chart), chart_path)
+    confirmations = sizing.confirm(list(chart.sizes), chart_path, models)
+    round_ = 1
+    while round_ < request.rounds and not all(confirmed(c, sizing.bands) for c in confirmations):
+        round_ += 1
+        log.info("round %d: the sizes not confirmed, recut from their equilibria", round_)
+        chart, confirmations = sizing.recut(chart, confirmations, models)
     results = sizing.size_cases(chart, chart_path)
     if sizing.kind == "leg" and results:  # a stocking is knitted as a tube
         from cloth.stages.patterns import write_patterns  # late: the pattern writers
@@ -528,9 +519,4 @@ def design_sizes(case_path: Path, request: Request, output: Path, overrides: dic
     return Outcome(sizing, chart, confirmations, calibration, models, round_)
 
 
-__all__ = [
-    "CALIBRATE_AT",
-    "Outcome",
-    "confirmed",
-    "design_sizes",
-]
+__all__ = ["CALIBRATE_AT", "Outcome", "design_sizes", "shortfall_of"]

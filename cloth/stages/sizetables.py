@@ -14,8 +14,10 @@ table and sizes.png, from what `cloth.stages.sizes.design_sizes` found.
   extreme wearers) with ``{line}_confirmed_min_who`` and ``{line}_confirmed_max_who`` (the
   wearer's run, then her id) and ``{line}_confirmed_error_mmHg`` (the largest stated
   discretisation error among them);
-* ``confirmed`` (1 where every confirmation converged and is inside every band),
-  ``grid_tells`` (1 where every confirmation's stated error is within max(1 %, 0.1 mmHg)).
+* ``confirmed`` (1 where every confirmation converged and is inside every band), ``recut``
+  (how many times the size was recut from its confirmations, `cloth.results.recut`; 0 as
+  searched), ``grid_tells`` (1 where every confirmation's stated error is within
+  max(1 %, 0.1 mmHg)).
 
 ``fast_model.csv``, one row per target line: the fast model the chart was searched with
 (`cloth.results.tubemodel`): ``line``, ``hoop``, ``constant_Pa``, per shape feature
@@ -36,11 +38,13 @@ from pathlib import Path
 
 import numpy as np
 
+from cloth.errors import InputError
 from cloth.pipeline.sweep import write_rows
 from cloth.results.fabricneed import Need, requirement
 from cloth.results.pressure import MMHG
 from cloth.results.sizechart import offset_range
-from cloth.stages.sizes import Outcome, confirmed
+from cloth.stages.sizeruns import confirmed
+from cloth.stages.sizes import Outcome, shortfall_of
 
 log = logging.getLogger(__name__)
 
@@ -75,7 +79,7 @@ def size_rows(outcome: Outcome) -> tuple[list[dict[str, object]], list[str]]:
             f"{line}_confirmed_max_who",
             f"{line}_confirmed_error_mmHg",
         ]
-    header += ["confirmed", "grid_tells"]
+    header += ["confirmed", "recut", "grid_tells"]
     rows = []
     for confirmation in outcome.confirmations:
         size = confirmation.size
@@ -93,7 +97,7 @@ def size_rows(outcome: Outcome) -> tuple[list[dict[str, object]], list[str]]:
             row[f"{line}_rest_circumference_cm"] = 100 * rest
             if len(fitted):
                 bend = outcome.models[line].calibration.offset(sizing.features[line][fitted])
-                p = outcome.models[line].pressure(sizing.girths[line][fitted], rest, bend) / MMHG
+                p = size.pressure(outcome.models, line, sizing.girths[line][fitted], bend) / MMHG
                 lo, hi = int(np.argmin(p)), int(np.argmax(p))
                 row[f"{line}_min_mmHg"], row[f"{line}_min_who"] = float(p[lo]), ids[fitted[lo]]
                 row[f"{line}_max_mmHg"], row[f"{line}_max_who"] = float(p[hi]), ids[fitted[hi]]
@@ -112,6 +116,7 @@ def size_rows(outcome: Outcome) -> tuple[list[dict[str, object]], list[str]]:
                 )
                 tells &= all(_within(r.pressure[line], r.error.get(line, np.nan)) for r in runs)
         row["confirmed"] = int(confirmed(confirmation, sizing.bands))
+        row["recut"] = size.recuts
         row["grid_tells"] = int(tells)
         rows.append(row)
     return rows, header
@@ -178,7 +183,7 @@ def _places(outcome: Outcome, size) -> np.ndarray:
     for line, band in sizing.bands.items():
         model = outcome.models[line]
         offset = model.calibration.offset(sizing.features[line][size.members])
-        p = model.pressure(sizing.girths[line][size.members], size.rest[line], offset)
+        p = size.pressure(outcome.models, line, sizing.girths[line][size.members], offset)
         below |= p < band.low - 1e-9 * band.high
         above |= p > band.high * (1 + 1e-9)
     return np.where(size.fits, 0, np.where(below, 1, 2))
@@ -199,14 +204,14 @@ def figure(outcome: Outcome, needs: list[Need], path: Path) -> Path:
     ends = offset_range(offsets, sizing.people.weight[people], chart.shape_share)
     for c in outcome.confirmations:
         kind[c.size.members] = _places(outcome, c.size)
-        rest = c.size.rest[primary]
         points = [
             (r.girth[primary], r.pressure.get(primary, np.nan), r.error.get(primary, np.nan))
             for r in c.runs
         ]
 
-        def span(g, rest=rest):
-            return np.stack([model.pressure(g, rest, ends[0]), model.pressure(g, rest, ends[1])])
+        def span(g, size=c.size):
+            models = outcome.models
+            return np.stack([size.pressure(models, primary, g, end) for end in ends])
 
         boxes.append(SizeBox(c.size.name, c.size.ranges, span, points))
     corridors = []
@@ -253,7 +258,9 @@ def model_rows(outcome: Outcome) -> tuple[list[dict[str, object]], list[str]]:
 
 
 def write_sizes(outcome: Outcome, output: Path) -> dict[str, Path]:
-    """sizes.csv, fabric_requirement.csv and sizes.png into ``output``; their paths."""
+    """sizes.csv, fabric_requirement.csv and sizes.png into ``output``; their paths. Then,
+    where a size is not confirmed, `InputError` with `cloth.stages.sizes.shortfall_of`'s line
+    (the command's exit status 2; the files stay written, that size's ``confirmed`` 0)."""
     rows, header = size_rows(outcome)
     needs = needs_of(outcome)
     need_table, need_header = need_rows(outcome, needs)
@@ -267,13 +274,17 @@ def write_sizes(outcome: Outcome, output: Path) -> dict[str, Path]:
     paths["fast_model"] = write_rows(fast_rows, output / "fast_model.csv", fast_header)
     paths["figure"] = figure(outcome, needs, output / "sizes.png")
     log.info(
-        "wrote %s: %d sizes cover %.1f %% (asked %.1f %%), %d confirmed",
+        "wrote %s: %d sizes cover %.1f %% (asked %.1f %%), %d confirmed, %d recut",
         output,
         len(rows),
         100 * outcome.chart.coverage,
         100 * outcome.sizing.request.coverage,
         sum(int(r["confirmed"]) for r in rows),
+        sum(1 for r in rows if int(str(r["recut"])) > 0),
     )
+    missing = shortfall_of(outcome)
+    if missing is not None:
+        raise InputError(missing, outcome.sizing.case_path, "--target")
     return paths
 
 
