@@ -217,3 +217,26 @@ def test_a_size_that_missed_ships_recut_and_confirmed_where_laplace_puts_it(cyli
     high = float(twice[name]["C_confirmed_max_mmHg"])
     assert 18 < low and high < 30
     assert low - 18 == pytest.approx(30 - high, abs=0.05)
+
+
+@pytest.mark.slow  # one more command at CI size (make test-slow; .ci/run runs it)
+def test_with_report_unmet_the_miss_is_warned_of_and_the_command_succeeds(cylinder, caplog):
+    import logging
+
+    from cloth.cli import main
+
+    folder, _, _ = cylinder
+    args = ["--population", str(folder / "people.csv"), "--target", "C=18:30"]
+    args += ["--max-sizes", "2", "--coverage", "0.9", "--margin", "0", "--rounds", "1"]
+    out = folder / "reported"
+    with caplog.at_level(logging.WARNING, logger="cloth"):
+        code = main(["sizes", str(folder / "case.yaml"), *args, "--report-unmet", "-o", str(out)])
+    assert code == 0
+    rows = _table(out / "sizes.csv")
+    assert [r["confirmed"] for r in rows].count("0") == 1
+    (warning,) = [
+        r.getMessage()
+        for r in caplog.records
+        if r.levelno == logging.WARNING and "size S" in r.getMessage()
+    ]
+    assert "outside the band 18-30 mmHg" in warning

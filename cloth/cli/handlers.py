@@ -155,7 +155,8 @@ def sizes(args: argparse.Namespace) -> int:
         margin=None if args.margin is None else args.margin * MMHG,
         rounds=args.rounds,
     )
-    write_sizes(design_sizes(args.case, request, args.output, _overrides(args)), args.output)
+    outcome = design_sizes(args.case, request, args.output, _overrides(args))
+    write_sizes(outcome, args.output, fail=not args.report_unmet)
     return 0
 
 

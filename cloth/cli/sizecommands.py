@@ -100,6 +100,12 @@ def add_sizes_command(
         help="the most rounds of confirmation: the searched chart's, then each of its sizes not "
         "confirmed recut from what its equilibria read (default 2)",
     )
+    sizes.add_argument(
+        "--report-unmet",
+        action="store_true",
+        help="a size not confirmed after the rounds is reported in sizes.csv (confirmed 0) and "
+        "the log only, exit status 0 (the pipeline's size charts)",
+    )
     ages_option(sizes)
     sizes.add_argument("-o", "--output", type=path, required=True, help="output folder")
     solver_options(sizes)

@@ -257,10 +257,11 @@ def model_rows(outcome: Outcome) -> tuple[list[dict[str, object]], list[str]]:
     return rows, header
 
 
-def write_sizes(outcome: Outcome, output: Path) -> dict[str, Path]:
+def write_sizes(outcome: Outcome, output: Path, fail: bool = True) -> dict[str, Path]:
     """sizes.csv, fabric_requirement.csv and sizes.png into ``output``; their paths. Then,
     where a size is not confirmed, `InputError` with `cloth.stages.sizes.shortfall_of`'s line
-    (the command's exit status 2; the files stay written, that size's ``confirmed`` 0)."""
+    (the command's exit status 2; the files stay written, that size's ``confirmed`` 0); with
+    ``fail`` False (``--report-unmet``, the pipeline's size charts) a warning of it."""
     rows, header = size_rows(outcome)
     needs = needs_of(outcome)
     need_table, need_header = need_rows(outcome, needs)
@@ -283,8 +284,10 @@ def write_sizes(outcome: Outcome, output: Path) -> dict[str, Path]:
         sum(1 for r in rows if int(str(r["recut"])) > 0),
     )
     missing = shortfall_of(outcome)
-    if missing is not None:
+    if missing is not None and fail:
         raise InputError(missing, outcome.sizing.case_path, "--target")
+    if missing is not None:
+        log.warning("%s", missing)
     return paths
 
 

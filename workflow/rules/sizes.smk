@@ -31,4 +31,5 @@ rule size_chart:
         cloth_version=CLOTH_VERSION,
     shell:
         "(cloth case write --json {params.case:q} -o {output.start:q} && "
-        "cloth sizes {output.start:q} {params.arguments} -o {params.folder:q}) > {log:q} 2>&1"
+        "cloth sizes {output.start:q} {params.arguments} --report-unmet "
+        "-o {params.folder:q}) > {log:q} 2>&1"
