@@ -8,6 +8,7 @@ import csv
 import importlib.util
 import itertools
 import json
+from unittest import mock
 from pathlib import Path
 
 import numpy as np
@@ -344,9 +345,22 @@ def sized(tmp_path_factory):
     )
     out = folder / "out"
     args = ["--population", str(people), "--target", "B=23:32", "--max-sizes", "2"]
-    code, err = run_cloth("sizes", str(case), *args, "--rounds", "1", "-o", str(out))
+    import cloth.figures.sizes as figures
+
+    drawn = figures.plot_sizes
+
+    def record(*args, **kwargs):  # what sizes.png's panels are drawn from
+        DRAWN["corridors"], DRAWN["tension"] = args[5], args[6]
+        return drawn(*args, **kwargs)
+
+    with mock.patch.object(figures, "plot_sizes", record):
+        code, err = run_cloth("sizes", str(case), *args, "--rounds", "1", "-o", str(out))
     assert code == 0, err
     return people, out
+
+
+#: what the ``sized`` fixture's sizes.png was drawn from: its corridors and the fabric's tension
+DRAWN: dict[str, object] = {}
 
 
 def _table(path: Path) -> list[dict[str, str]]:
@@ -512,6 +526,37 @@ def test_the_fabric_requirement_is_its_corridor_by_hand(sized):
         assert weft_low == pytest.approx(23 * MMHG - shape[0], rel=1e-4)
         assert weft_high == pytest.approx(32 * MMHG - shape[1], rel=1e-4)
         assert row["fabric_holds"] in ("0", "1")
+
+
+def test_sizes_png_draws_each_corridor_where_the_fabric_is_cut_as_the_table_says(sized):
+    """The third panel's corridors are the table's: each size's strain window where the case's
+    fabric is cut, the corridor's floor at its start and roof at its end, the fabric's tension
+    there; the fabric's curve is inside the drawn corridor exactly where ``fabric_holds``."""
+    _, out = sized
+    needs = _table(out / "fabric_requirement.csv")
+    corridors, tension = DRAWN["corridors"], DRAWN["tension"]
+    assert len(corridors) == len(needs) == 2
+    for row, corridor in zip(needs, corridors, strict=True):
+        rest = float(row["fabric_rest_circumference_cm"]) / 100
+        a, b = float(row["B_min_cm"]) / 100, float(row["B_max_cm"]) / 100
+        # the file's 6 significant digits of cm, through a / rest - 1
+        assert float(row["fabric_strain_min"]) == pytest.approx(a / rest - 1, abs=2e-5)
+        assert float(row["fabric_strain_max"]) == pytest.approx(b / rest - 1, abs=2e-5)
+        assert corridor.strain[0] == pytest.approx(float(row["fabric_strain_min"]), rel=1e-5)
+        assert corridor.strain[-1] == pytest.approx(float(row["fabric_strain_max"]), rel=1e-5)
+        assert corridor.floor[0] == pytest.approx(float(row["tension_floor_N_per_m"]), rel=1e-5)
+        assert corridor.roof[-1] == pytest.approx(float(row["tension_roof_N_per_m"]), rel=1e-5)
+        ends = tension(corridor.strain[[0, -1]])
+        assert ends[0] == pytest.approx(float(row["fabric_tension_min_N_per_m"]), rel=1e-5)
+        assert ends[1] == pytest.approx(float(row["fabric_tension_max_N_per_m"]), rel=1e-5)
+        inside = ends[0] >= corridor.floor[0] * (1 - 1e-6) and ends[1] <= corridor.roof[-1] * (
+            1 + 1e-6
+        )
+        assert row["fabric_holds"] == str(int(inside)) and corridor.holds == inside
+        if inside:  # the whole curve, not only its ends (the pressure rises with the girth)
+            curve = tension(corridor.strain)
+            assert np.all(curve >= corridor.floor * (1 - 1e-6))
+            assert np.all(curve <= corridor.roof * (1 + 1e-6))
 
 
 def test_the_fast_model_s_error_is_its_rms_on_the_equilibria_it_was_fitted_to(sized):

@@ -46,11 +46,13 @@ class SizeBox:
 
 @dataclass(frozen=True)
 class Corridor:
-    """A needed size's corridor: its strain window (1), floor and roof (N m-1) along it."""
+    """A needed size's corridor where the fabric is cut: its strain window (1), floor and roof
+    (N m-1) along it, and whether the fabric holds it."""
 
     strain: NDArray[np.float64]
     floor: NDArray[np.float64]
     roof: NDArray[np.float64]
+    holds: bool = True
 
 
 def plot_sizes(
@@ -66,7 +68,8 @@ def plot_sizes(
     """Three panels into ``path``: ``values`` (measure -> (P,) m) of the people the chart was
     designed for, ``kind`` (P,) each one's place (an index of `KINDS`: in every band of her
     size, below a band, above one, in no size); the ``boxes``; the primary line's ``band``
-    (Pa); the needed ``corridors`` and the fabric's ``tension`` (strain -> N m-1)."""
+    (Pa); the needed ``corridors``, each where the fabric is cut for its size, and the
+    fabric's ``tension`` (strain -> N m-1)."""
     primary = measures[0]
     fig, axes = plt.subplots(1, 3, figsize=(16, 5.2), layout="constrained")
     ax = axes[0]
@@ -123,14 +126,20 @@ def plot_sizes(
     ax = axes[2]
     top = 0.0
     for k, c in enumerate(corridors):
-        ax.fill_between(c.strain, c.floor, c.roof, alpha=0.5, label=f"R{k + 1}")
+        verdict = "holds" if c.holds else "does not hold"
+        ax.fill_between(c.strain, c.floor, c.roof, alpha=0.5, label=f"R{k + 1} ({verdict})")
         top = max(top, float(np.max(c.strain)))
     e = np.linspace(1e-3, 1.2 * top if top > 0 else 1.0, 300)
     ax.plot(e, tension(e), "k-", lw=1.5, label="the fabric")
     ax.set_yscale("log")
+    if corridors:  # the corridors' own range: the fabric's curve where it meets them
+        floor = min(float(np.min(c.floor)) for c in corridors)
+        roof = max(float(np.max(c.roof)) for c in corridors)
+        if 0 < floor < roof:
+            ax.set_ylim(0.5 * floor, 2.0 * roof)
     ax.set_xlabel("weft strain [1]")
     ax.set_ylabel("weft tension [N/m]")
-    ax.set_title("the corridors a chart of the sizes asked needs")
+    ax.set_title("each size's corridor where the fabric is cut for it")
     ax.legend(loc="lower right", fontsize=7, ncols=2)
     with atomic_output(path) as tmp:
         fig.savefig(tmp, format="png", dpi=110)

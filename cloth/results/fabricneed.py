@@ -20,6 +20,15 @@ The window and the corridor are stated at that cut: the least stretch at which a
 can hold the size (a softer fabric works at more stretch, a fabric that stiffens with strain at
 less).
 
+**The case's fabric** is cut where it holds the size best (`fabric_rest`: the rest
+circumference that puts the size's ends equally far inside the band, `cloth.results.sizechart.
+centred_rest`, or equally far outside where no cut holds it). At that cut its window is
+``[a/c0 - 1, b/c0 - 1]`` and the corridor is the one above with that ``c0``: the fabric holds
+the size exactly where its curve is above the corridor's floor at the window's start and below
+its roof at the window's end (the pressure rises with the girth), which is ``fabric_holds``;
+sizes.png draws each size's corridor at that cut with the fabric's curve
+(`cloth.stages.sizetables`), so the figure and the table say the same thing.
+
 Units: girths and circumferences in m, tension in N m-1, pressure in Pa, strain 1.
 """
 
@@ -31,7 +40,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from cloth.results.sizechart import Band, central, span
+from cloth.results.sizechart import Band, central, centred_rest
 from cloth.results.tubemodel import LineModel
 
 
@@ -55,12 +64,24 @@ class Need:
     #: the weft term's band (Pa): the line's band less the warp term at each end
     weft_band: tuple[float, float] = (0.0, 0.0)
     hoop: float = 1.0
+    #: where the case's fabric is cut for the size (m; module docstring)
+    fabric_rest: float = float("nan")
+    #: the case's fabric's weft tension at its window's start and end there (N m-1)
+    fabric_tension: tuple[float, float] = (float("nan"), float("nan"))
 
-    def corridor(self, strain: NDArray[np.float64]) -> NDArray[np.float64]:
-        """(2, S) the corridor's floor and roof (N m-1) at ``strain`` (S,) for this size's
-        cut."""
-        scale = self.rest * (1.0 + np.asarray(strain, dtype=float)) / (2.0 * np.pi * self.hoop)
+    def corridor(
+        self, strain: NDArray[np.float64], rest: float | None = None
+    ) -> NDArray[np.float64]:
+        """(2, S) the corridor's floor and roof (N m-1) at ``strain`` (S,) for the cut
+        ``rest`` (m; default the stiffest linear fabric's)."""
+        c0 = self.rest if rest is None else rest
+        scale = c0 * (1.0 + np.asarray(strain, dtype=float)) / (2.0 * np.pi * self.hoop)
         return np.stack([self.weft_band[0] * scale, self.weft_band[1] * scale])
+
+    @property
+    def fabric_window(self) -> tuple[float, float]:
+        """The case's fabric's strain window at its cut (1)."""
+        return self.low / self.fabric_rest - 1.0, self.high / self.fabric_rest - 1.0
 
 
 def linear_modulus(
@@ -99,7 +120,11 @@ def requirement(
             if modulus > 0
             else float("nan")
         )
-        holds = bool(span(model, band, np.array([a]), offset)[0] >= b * (1 - 1e-12))
+        cut = centred_rest(model, band, float(a), float(b), offset)
+        tension = model.tension(np.array([a / cut - 1.0, b / cut - 1.0]))
+        floor = weft_low * a / (2.0 * np.pi * hoop)
+        roof = weft_high * b / (2.0 * np.pi * hoop)
+        holds = bool(tension[0] >= floor * (1 - 1e-9) and tension[1] <= roof * (1 + 1e-9))
         needs.append(
             Need(
                 low=float(a),
@@ -108,11 +133,13 @@ def requirement(
                 rest=float(rest),
                 strain_min=float(a / rest - 1.0),
                 strain_max=float(b / rest - 1.0),
-                tension_floor=float(weft_low * a / (2.0 * np.pi * hoop)),
-                tension_roof=float(weft_high * b / (2.0 * np.pi * hoop)),
+                tension_floor=float(floor),
+                tension_roof=float(roof),
                 fabric_holds=holds,
                 weft_band=(float(weft_low), float(weft_high)),
                 hoop=float(hoop),
+                fabric_rest=float(cut),
+                fabric_tension=(float(tension[0]), float(tension[1])),
             )
         )
     return needs

@@ -28,7 +28,9 @@ table and sizes.png, from what `cloth.stages.sizes.design_sizes` found.
 ``fabric_requirement.csv``, one row per size of the chart asked for (`cloth.results.fabricneed`):
 ``size``, ``{measure}_min_cm``, ``{measure}_max_cm``, ``strain_min``, ``strain_max``,
 ``rest_circumference_cm``, ``tension_floor_N_per_m``, ``tension_roof_N_per_m``,
-``linear_modulus_N_per_m``, ``fabric_holds`` (0 or 1).
+``linear_modulus_N_per_m``; where the case's fabric is cut, ``fabric_rest_circumference_cm``,
+``fabric_strain_min``, ``fabric_strain_max`` and its tension at them,
+``fabric_tension_min_N_per_m`` and ``fabric_tension_max_N_per_m``; ``fabric_holds`` (0 or 1).
 """
 
 from __future__ import annotations
@@ -153,6 +155,11 @@ def need_rows(outcome: Outcome, needs: list[Need]) -> tuple[list[dict[str, objec
         "tension_floor_N_per_m",
         "tension_roof_N_per_m",
         "linear_modulus_N_per_m",
+        "fabric_rest_circumference_cm",
+        "fabric_strain_min",
+        "fabric_strain_max",
+        "fabric_tension_min_N_per_m",
+        "fabric_tension_max_N_per_m",
         "fabric_holds",
     ]
     rows = []
@@ -168,6 +175,11 @@ def need_rows(outcome: Outcome, needs: list[Need]) -> tuple[list[dict[str, objec
                 "tension_floor_N_per_m": need.tension_floor,
                 "tension_roof_N_per_m": need.tension_roof,
                 "linear_modulus_N_per_m": need.linear_modulus,
+                "fabric_rest_circumference_cm": 100 * need.fabric_rest,
+                "fabric_strain_min": need.fabric_window[0],
+                "fabric_strain_max": need.fabric_window[1],
+                "fabric_tension_min_N_per_m": need.fabric_tension[0],
+                "fabric_tension_max_N_per_m": need.fabric_tension[1],
                 "fabric_holds": int(need.fabric_holds),
             }
         )
@@ -189,9 +201,23 @@ def _places(outcome: Outcome, size) -> np.ndarray:
     return np.where(size.fits, 0, np.where(below, 1, 2))
 
 
+def corridors(needs: list[Need], count: int = 20):
+    """sizes.png's third panel: each needed size's corridor where the case's fabric is cut
+    (`cloth.results.fabricneed`, "The case's fabric"), over its strain window there at
+    ``count`` strains (`cloth.figures.sizes.Corridor`)."""
+    from cloth.figures.sizes import Corridor  # late: matplotlib
+
+    out = []
+    for need in needs:
+        strain = np.linspace(*need.fabric_window, count)
+        floor, roof = need.corridor(strain, need.fabric_rest)
+        out.append(Corridor(strain, floor, roof, need.fabric_holds))
+    return out
+
+
 def figure(outcome: Outcome, needs: list[Need], path: Path) -> Path:
     """sizes.png (`cloth.figures.sizes`) from the outcome and the needed sizes."""
-    from cloth.figures.sizes import Corridor, SizeBox, plot_sizes  # late: matplotlib
+    from cloth.figures.sizes import SizeBox, plot_sizes  # late: matplotlib
 
     sizing, chart = outcome.sizing, outcome.chart
     primary = chart.measures[0]
@@ -214,11 +240,6 @@ def figure(outcome: Outcome, needs: list[Need], path: Path) -> Path:
             return np.stack([size.pressure(models, primary, g, end) for end in ends])
 
         boxes.append(SizeBox(c.size.name, c.size.ranges, span, points))
-    corridors = []
-    for need in needs:
-        strain = np.linspace(need.strain_min, need.strain_max, 20)
-        floor, roof = need.corridor(strain)
-        corridors.append(Corridor(strain, floor, roof))
     values = {m: sizing.girths[m][people] for m in chart.measures}
     return plot_sizes(
         chart.measures,
@@ -226,7 +247,7 @@ def figure(outcome: Outcome, needs: list[Need], path: Path) -> Path:
         kind[people],
         boxes,
         (band.low, band.high),
-        corridors,
+        corridors(needs),
         model.tension,
         path,
     )
