@@ -401,6 +401,7 @@ def test_every_default_is_the_schema_s_the_case_s_and_the_one_docs_config_states
         kind: validate_case({"material": "powernet", "body": body, "garment": garment})
         for kind, body in bodies.items()
     }
+    base = {"material": "powernet", "body": bodies["cylinder"]}
     # a garment of several pieces, each item's defaulted keys left out (cloth.case.pieces)
     several = {
         **garment,
@@ -429,6 +430,9 @@ def test_every_default_is_the_schema_s_the_case_s_and_the_one_docs_config_states
         case = cases[kind] if key.startswith("body.") else cases["cylinder"]
         if key.startswith(PIECE_KEYS):
             case = pieces
+        if key in ("garment.accuracy", "garment.max_nodes"):  # filled for grid: auto alone
+            assert key.split(".")[1] not in case.to_dict()["garment"], key
+            case = validate_case({**base, "garment": {**garment, "grid": "auto"}})
         assert _effective(case, key) == value, key
     # a contact block without friction is frictionless
     frictionless = validate_case(
@@ -506,3 +510,58 @@ def test_every_default_is_the_one_the_code_applies_and_its_types_own():
             assert field.default == value, f"{key}: {type(typed).__name__}'s own default"
         checked += 1
     assert checked >= 18  # every solver, garment and contact default above, and fabric_scale
+
+
+#: A default a description states as one value: "Default X" or "(default X)", X a number, a
+#: boolean or a list, ended by punctuation or the text's end ("default 1e-3 x the shortest
+#: spring" or "default true where ..." is no single value and is left to the text).
+STATED_DEFAULT = re.compile(
+    r"\b[Dd]efault:?\s+(\[[^\]]*\]|-?\d+(?:\.\d+)?(?:e-?\d+)?|true|false)(?=\s*(?:[.;,)(]|$))"
+)
+
+
+def _described_defaults(path) -> dict[str, object]:
+    """Every key of a JSON schema whose description states a default (`STATED_DEFAULT`), by
+    its dotted path, the value read as YAML."""
+    out: dict[str, object] = {}
+    for key, text in _schema_keys(path, "description").items():
+        found = STATED_DEFAULT.search(" ".join(str(text).split()))
+        if found:
+            out[key] = yaml.safe_load(found.group(1))
+    return out
+
+
+def test_every_default_a_description_states_is_one_value_the_code_applies():
+    """A default stated in a key's description (what docs/reference/keys.md shows) is the
+    schema's ``default`` (so the rule above, the docs and the code's types all see it), and
+    a size chart entry's is ``cloth sizes``'s own (the job passes only what an entry gives)."""
+    from cloth.cli.parser import build_parser
+    from cloth.files.population import AGES
+    from cloth.pipeline.sizecharts import OPTIONS
+
+    case_keys = _described_defaults(SCHEMAS["case.yaml"])
+    defaults = _schema_keys(SCHEMAS["case.yaml"], "default")
+    assert "garment.accuracy" in case_keys  # the one that once stated it in its text alone
+    for key, value in case_keys.items():
+        assert key in defaults, f"case.yaml: {key} states default {value!r} in its text only"
+        assert defaults[key] == value, f"case.yaml: {key}: text {value!r}, schema {defaults[key]!r}"
+    config_keys = _described_defaults(SCHEMAS["config.yaml"])
+    config_defaults = _schema_keys(SCHEMAS["config.yaml"], "default")
+    for key, value in config_keys.items():
+        if key in config_defaults:
+            assert config_defaults[key] == value, key
+    args = build_parser().parse_args(["sizes", "case.yaml", "--target", "B=23:32", "-o", "x"])
+    checked = 0
+    for key, value in config_keys.items():
+        entry, _, name = key.partition(".")
+        if entry != "size_charts":
+            continue
+        if name == "ages":
+            applied = list(AGES) if args.ages is None else args.ages
+        else:
+            applied = getattr(args, OPTIONS[name].lstrip("-").replace("-", "_"))
+        assert applied == value, (
+            f"config.yaml: {key} states {value!r}, cloth sizes applies {applied!r}"
+        )
+        checked += 1
+    assert checked >= 5  # coverage, max_sizes, max_variants, rounds, ages

@@ -8,8 +8,8 @@ import csv
 import importlib.util
 import itertools
 import json
-from unittest import mock
 from pathlib import Path
+from unittest import mock
 
 import numpy as np
 import pytest

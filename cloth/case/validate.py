@@ -202,10 +202,17 @@ def checked_mapping(case: Any, source: str | Path = "case") -> dict[str, Any]:
         )
     case.setdefault("solver", {})
     _fill_defaults(case_schema(), case)
+    if case["garment"]["grid"] != "auto":  # the automatic grid's keys: not an explicit grid's
+        for key in AUTO_GRID_KEYS:
+            case["garment"].pop(key, None)
     _body_defaults(case["body"], kinds[0])
     if pattern is not None and "body" in pattern:
         _body_defaults(pattern["body"], _check_body(pattern["body"], source, "")[0])
     return case
+
+
+#: The garment keys of ``grid: auto`` alone: their defaults are filled for it only.
+AUTO_GRID_KEYS = ("accuracy", "max_nodes")
 
 
 def _check_body(body: dict[str, Any], source: str | Path, field: str) -> list[str]:

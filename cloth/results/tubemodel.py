@@ -74,20 +74,29 @@ class Tension:
 
     def strain_at(self, tension: ArrayLike) -> NDArray[np.float64]:
         """The strain (1) whose tension is ``tension`` (N m-1, >= 0): the inverse of a
-        non-decreasing piecewise-linear curve, its smallest strain where a segment is flat."""
+        non-decreasing piecewise-linear curve. Above a flat stretch (a slack toe, a plateau)
+        the rise starts at the stretch's end; exactly at a flat stretch's tension, its
+        smallest strain."""
         t = np.asarray(tension, dtype=float)
-        rising = np.concatenate([[True], np.diff(self.tension) > 0])
-        strain, values = self.strain[rising], self.tension[rising]
-        slope = (values[-1] - values[-2]) / (strain[-1] - strain[-2])
-        if not slope > 0:
+        step = np.diff(self.tension)
+        ends = np.concatenate([step > 0, [True]])  # the last knot at each tension
+        starts = np.concatenate([[True], step > 0])  # the first
+        strain, values = self.strain[ends], self.tension[ends]
+        inside = np.where(
+            np.isin(t, self.tension[starts]),
+            np.interp(t, self.tension[starts], self.strain[starts]),
+            np.interp(t, values, strain),
+        )
+        slope = (self.tension[-1] - self.tension[-2]) / (self.strain[-1] - self.strain[-2])
+        above = t > values[-1]
+        if np.any(above) and not slope > 0:
             raise InputError(
                 "the fabric's weft tension does not rise at its last knot, so no strain gives "
                 "a higher pressure; give a lab table whose curve rises",
                 field="material",
             )
-        inside = np.interp(t, values, strain)
-        beyond = strain[-1] + (t - values[-1]) / slope
-        return np.where(t > values[-1], beyond, inside)
+        beyond = self.strain[-1] + (t - values[-1]) / slope if slope > 0 else self.strain[-1]
+        return np.where(above, beyond, inside)
 
 
 @dataclass(frozen=True)
