@@ -201,6 +201,12 @@ def sizes(
     Returns
     -------
     The chart (`cloth.stages.sizes.design_sizes`), its files written into ``output``.
+
+    Raises
+    ------
+    InputError
+        Where a size is still not confirmed after its rounds (its files are written, with
+        ``confirmed`` 0), as the command's exit status 2.
     """
     from cloth.stages.sizerequest import (  # the size chart's stack: only where asked
         Request,

@@ -378,13 +378,19 @@ class Sizing:
         self, sizes: list[Size], chart_path: Path, models: dict[str, LineModel]
     ) -> list[Confirmation]:
         """Step 4: every size of ``sizes`` on its extreme wearers by the fast ``models``
-        (its corrected model where it was recut), each in ``{size}/confirm/`` anew."""
+        (its corrected model where it was recut), each in ``{size}/confirm/`` anew; a recut
+        size's confirmations of the round before move to ``{size}/confirm_round{k}/`` (k its
+        recuts: round k's)."""
         found = []
         jobs = []
         for size in sizes:
             wearers = self.extremes(size, models) if len(size.members) else {}
             folder = self.output / size.name / "confirm"
-            shutil.rmtree(folder, ignore_errors=True)  # a recut size's wearers may change
+            if size.recuts and folder.is_dir():  # the round before, kept beside: what it read
+                kept = folder.with_name(f"confirm_round{size.recuts}")
+                shutil.rmtree(kept, ignore_errors=True)
+                folder.rename(kept)
+            shutil.rmtree(folder, ignore_errors=True)  # a run into a folder used before
             rows = [self.person_row(p, n) for n, p in wearers.items()]
             if rows:
                 self.write_chart(rows, folder / "people.csv")
