@@ -91,6 +91,10 @@ def miss(confirmation: Confirmation, bands: Mapping[str, Band], ids: Sequence[st
     return f"size {size} is confirmed"
 
 
+#: how a confirmation's ``why`` begins where no recut of its size holds its wearers
+NO_RECUT = "no recut holds it"
+
+
 def shortfall(
     confirmations: Sequence[Confirmation],
     bands: Mapping[str, Band],
@@ -106,11 +110,17 @@ def shortfall(
         recuts = confirmation.size.recuts
         after = f" after {recuts} recut{'s' if recuts != 1 else ''} in {rounds} rounds"
         why = f" ({confirmation.why})" if confirmation.why else ""
+        held = not confirmation.why.startswith(NO_RECUT)  # a further round could recut it
+        fix = (
+            "more --rounds, a wider band or more --max-sizes"
+            if held
+            else "a wider band or more --max-sizes"
+        )
         return (
             f"{miss(confirmation, bands, ids)}{after}{why}; its files are written with "
-            "confirmed 0: give more --rounds, a wider band or more --max-sizes"
+            f"confirmed 0: give {fix}"
         )
     return None
 
 
-__all__ = ["Confirmation", "Run", "confirmed", "miss", "shortfall"]
+__all__ = ["NO_RECUT", "Confirmation", "Run", "confirmed", "miss", "shortfall"]

@@ -57,7 +57,7 @@ from cloth.results.sizechart import Chart, People, Size, design_chart, extreme_w
 from cloth.results.tubemodel import Calibration, LineModel, Tension, laplace
 from cloth.stages.case import run_case
 from cloth.stages.sizerequest import Request, measure_names, template_of
-from cloth.stages.sizeruns import Confirmation, Run, confirmed, shortfall
+from cloth.stages.sizeruns import NO_RECUT, Confirmation, Run, confirmed, shortfall
 
 log = logging.getLogger(__name__)
 
@@ -426,7 +426,7 @@ class Sizing:
             found = recut(c.size, c.reads(), people, models, self.bands)
             log.info("%s %s: %s", c.size.name, "recut" if found.size else "not recut", found.why)
             if found.size is None:
-                out[k] = replace(c, why=f"no recut holds it: {found.why}")
+                out[k] = replace(c, why=f"{NO_RECUT}: {found.why}")
                 continue
             out[k] = replace(c, size=found.size, why=found.why)
             again.append(k)
