@@ -62,7 +62,9 @@ def main() -> None:
         command += ["--report-unmet"]  # a size not confirmed is a row of the table, not a crash
         out = folder / "out"
         start = time.perf_counter()
-        subprocess.run([*command, "-o", str(out)], check=True, capture_output=True)
+        done = subprocess.run([*command, "-o", str(out)], capture_output=True, text=True)
+        if done.returncode:
+            sys.exit(f"bench_sizes: cloth sizes exited {done.returncode}: {done.stderr.strip()}")
         seconds = time.perf_counter() - start
         runs = len(list(out.rglob("summary.csv")))
         with (out / "sizes.csv").open() as handle:

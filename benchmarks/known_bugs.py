@@ -609,6 +609,20 @@ BUGS = [
         "    while False and not all(",
         "tests/test_recut.py",
     ),
+    Bug(
+        "a solver's log line prints its energy whole",
+        "cloth/solvers/stepper.py",
+        "energy %.6g J, %d nodes on the body",
+        "energy %r J, %d nodes on the body",
+        "tests/test_relax.py -k newton_and_explicit_agree",
+    ),
+    Bug(
+        "a piece's edge at a band read from the band's row",
+        "cloth/files/garmentpieces.py",
+        "        return _own(cut, own, values[inside] if inside.sum() >= 2 else values)\n",
+        "        return np.interp(cut, z, values)\n",
+        "tests/test_pattern_pieces.py",
+    ),
 ]
 
 

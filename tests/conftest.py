@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import itertools
+import logging
 
 import matplotlib
 import numpy as np
@@ -106,6 +107,48 @@ def _surface_cache(tmp_path_factory):
     import os
 
     os.environ["CLOTH_CACHE_DIR"] = str(tmp_path_factory.mktemp("cache"))
+
+
+class _LongNumbers(logging.Handler):
+    """Keeps each message logged under ``cloth`` at INFO or above with a decimal number of
+    more digits than the log-digits rule allows (`tests.test_log_numbers.too_long`)."""
+
+    def __init__(self) -> None:
+        super().__init__(logging.INFO)
+        self.found: list[str] = []
+
+    def emit(self, record: logging.LogRecord) -> None:
+        from tests.test_log_numbers import too_long
+
+        message = record.getMessage()
+        if too_long(message):
+            self.found.append(f"{record.name}: {message}")
+
+
+_LONG_NUMBERS = _LongNumbers()
+
+
+@pytest.fixture(autouse=True, scope="session")
+def _every_log_line_at_info(request):
+    """Every command the suite runs logs at INFO, its default level (issue 71, item 3), for
+    `_sensible_log_digits`."""
+    logger = logging.getLogger("cloth")
+    level = logger.level
+    logger.setLevel(logging.INFO)
+    logger.addHandler(_LONG_NUMBERS)
+    yield
+    logger.removeHandler(_LONG_NUMBERS)
+    logger.setLevel(level)
+
+
+@pytest.fixture(autouse=True)
+def _sensible_log_digits(_every_log_line_at_info):
+    """The log-digits rule over every line the library logs in the whole suite, at CI size:
+    a test whose commands (or its fixtures') logged a number printed with more digits than
+    `tests.test_log_numbers.DIGITS` fails, naming the line."""
+    yield
+    found, _LONG_NUMBERS.found[:] = list(_LONG_NUMBERS.found), []
+    assert not found, f"a number logged with too many digits: {found}"
 
 
 @pytest.fixture(scope="session")

@@ -186,3 +186,26 @@ def test_pattern_csv_says_each_rows_piece_and_the_panels_widths(written):
         assert (row["LAYER_1_width_mm"] != "") == (0.2 <= z <= 0.3)
     worn = read_pattern(folder / "pattern.csv")  # still a pattern a case wears
     assert len(worn.cut_height) == len(rows)
+
+
+def test_a_piece_s_edge_at_a_band_is_its_own_fabric_s_not_the_band_s(written):
+    """A panel's end row at a band's seam is the body's own row there: on the cone, cut to one
+    reduction, the body's rest circumference is 0.85 x the cone's girth at each cut height
+    (a line), so the panels' end rows add up to 0.85 x 2 pi r at the seam (0.12 m and 0.37 m),
+    not to a mix with the band's row beyond it (cut to 0.95 x)."""
+    folder, out, _ = written
+    nest = astm.read_nest(folder / "pattern_astm.dxf")
+    result = xr.load_dataset(out / "result.nc")
+    cut = result["cut_height"].values
+    circumference = 1e3 * result["rest_circumference"].values
+    body = (cut > 0.12 + 1e-9) & (cut < 0.37 - 1e-9)
+
+    def cone(z):  # 0.85 x the cone's girth at cut height z, mm
+        return 0.85 * 2e3 * math.pi * (0.12 - 0.02 * np.asarray(z) / 0.5)
+
+    assert circumference[body] == pytest.approx(cone(cut[body]), rel=1e-6)  # the premise
+    sew = [nest.pieces[n] for n in ("PANEL_1_M", "PANEL_2_M")]
+    for end, seam in ((min, 0.12), (max, 0.37)):
+        y = end(float(end(p.sew[0][:, 1])) for p in sew)  # the rows both panels reach
+        total = sum(p.sew_width_at(y) for p in sew)
+        assert total == pytest.approx(float(cone(seam)), rel=1e-6)

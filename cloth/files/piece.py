@@ -132,6 +132,15 @@ def _crosses_itself(polygon: NDArray[np.float64]) -> bool:
     return bool(crossing.any())
 
 
+def check_allowance(allowance: float) -> None:
+    """`InputError` for a seam ``allowance`` (mm) that is negative or not finite."""
+    if not (np.isfinite(allowance) and allowance >= 0):
+        raise InputError(
+            f"must be a length >= 0 in mm (0: the net pattern), got {allowance}",
+            field="pattern.seam_allowance_mm",
+        )
+
+
 def piece_of(
     pattern: Pattern,
     size: str,
@@ -146,11 +155,7 @@ def piece_of(
     non-finite allowance. ``name`` and ``quantity``: a piece of a garment of several
     (`cloth.files.garmentpieces`), in place of the cut's; ``edge_notches``: x (mm) of notches
     on its lower edge (where a band meets the panels' seams)."""
-    if not (np.isfinite(allowance) and allowance >= 0):
-        raise InputError(
-            f"must be a length >= 0 in mm (0: the net pattern), got {allowance}",
-            field="pattern.seam_allowance_mm",
-        )
+    check_allowance(allowance)
     own_name, own_quantity = PIECES[pattern.cut]
     name = own_name if name is None else name
     quantity = own_quantity if quantity is None else quantity

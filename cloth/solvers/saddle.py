@@ -90,8 +90,8 @@ def downhill(problem: Problem, ev: Evaluation, factor) -> Evaluation | None:
             alpha *= 0.5
     if best is not None:
         log.info(
-            "saddle: moved along its unstable modes, energy %.10g -> %.10g J",
+            "saddle: moved along its unstable modes, energy %.6g J lowered by %.3g J",
             ev.energy,
-            best.energy,
+            ev.energy - best.energy,
         )
     return best

@@ -57,7 +57,7 @@ class LogLine:
         if self.every and iteration % self.every == 0:
             ev = step.evaluation
             log.info(
-                "%s iteration %d: residual %.3e, energy %.9g J, %d nodes on the body, "
+                "%s iteration %d: residual %.3e, energy %.6g J, %d nodes on the body, "
                 "penetration %.2e m",
                 stepper.name,
                 iteration,

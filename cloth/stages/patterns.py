@@ -47,7 +47,7 @@ from cloth.files.garmentpieces import (
 )
 from cloth.files.knitting import STEP_MM, check_step, write_knitting
 from cloth.files.pattern import CUTS, Pattern, pattern_of, write_csv, write_dxf, write_svg
-from cloth.files.piece import SEAM_ALLOWANCE_MM, Piece, piece_of
+from cloth.files.piece import SEAM_ALLOWANCE_MM, Piece, check_allowance, piece_of
 from cloth.files.piecesheet import write_sheet_dxf, write_sheet_svg
 from cloth.files.printout import sheet, write_pdf
 from cloth.io import read_netcdf
@@ -57,6 +57,8 @@ log = logging.getLogger(__name__)
 
 FORMATS = ("csv", "svg", "dxf", "astm", "pdf", "knitting")
 PLAIN = {"csv": write_csv, "svg": write_svg, "dxf": write_dxf}
+#: The formats that draw the pieces' cut lines (their seam allowance): the others are tables.
+DRAWN = frozenset({"svg", "dxf", "astm", "pdf"})
 #: The Python packages each format needs beyond the dependencies, and the extra with them.
 NEEDS = {"dxf": ("ezdxf",), "astm": ("ezdxf",)}
 
@@ -158,22 +160,10 @@ def write_patterns(
         size: garment_pieces(data, patterns[size])
         for size, data in zip(sizes, datasets, strict=True)
     }
+    check_allowance(allowance)
+    drawn = bool(DRAWN & set(formats))  # a table alone (csv, knitting) cuts no piece
     pieces = {
-        size: [piece_of(pattern, size, material, allowance, notes)]
-        if not several[size]
-        else [
-            piece_of(
-                part.pattern,
-                size,
-                part.material,
-                allowance,
-                notes,
-                name=part.name,
-                quantity=part.quantity,
-                edge_notches=part.notches_x,
-            )
-            for part in several[size]
-        ]
+        size: _pieces(pattern, several[size], size, material, allowance, notes) if drawn else []
         for size, pattern in patterns.items()
     }
     one = len(results) == 1
@@ -208,6 +198,33 @@ def write_patterns(
             step,
         )
     return written
+
+
+def _pieces(
+    pattern: Pattern,
+    several: list[PiecePattern],
+    size: str,
+    material: str,
+    allowance: float,
+    notes: Sequence[str],
+) -> list[Piece]:
+    """One size's pieces with their cut lines: the garment's one piece, or each of its
+    ``several`` (a garment of several fabrics)."""
+    if not several:
+        return [piece_of(pattern, size, material, allowance, notes)]
+    return [
+        piece_of(
+            part.pattern,
+            size,
+            part.material,
+            allowance,
+            notes,
+            name=part.name,
+            quantity=part.quantity,
+            edge_notches=part.notches_x,
+        )
+        for part in several
+    ]
 
 
 def _size_files(

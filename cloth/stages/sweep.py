@@ -96,13 +96,14 @@ def confirm_file(
     for row in rows:
         if "confirmed_mmHg" in row:
             log.info(
-                "%s on %s, %s: reduction %s gives %.4g +- %.2g mmHg (target %s, off by %+.2f %%)",
+                "%s on %s, %s: reduction %.4f gives %.4g +- %.2g mmHg (target %.4g, "
+                "off by %+.2f %%)",
                 row["material"],
                 row["body"],
                 row["landmark"],
-                row["reduction"],
+                float(row["reduction"]),
                 row["confirmed_mmHg"],
                 row["confirmed_error_mmHg"],
-                row["target_mmHg"],
+                float(row["target_mmHg"]),
                 row["error_percent"],
             )
