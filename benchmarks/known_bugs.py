@@ -619,7 +619,7 @@ BUGS = [
     Bug(
         "a piece's edge at a band read from the band's row",
         "cloth/files/garmentpieces.py",
-        "        return _own(cut, own, values[inside] if inside.sum() >= 2 else values)\n",
+        "        return _own(cut, z[own], values[own])\n",
         "        return np.interp(cut, z, values)\n",
         "tests/test_pattern_pieces.py",
     ),

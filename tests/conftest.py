@@ -12,6 +12,7 @@ import pytest
 matplotlib.use("Agg")
 
 from cloth.materials.curves import Fabric, StressStrainCurve
+from tests.test_log_numbers import too_long
 
 #: 1 mmHg in Pa by its definition, typed here for the tests' own expectations (not the
 #: library's constant): 13.5951 g/cm3 x 9.80665 m/s2 x 1 mm = 133.322387415 Pa.
@@ -118,8 +119,6 @@ class _LongNumbers(logging.Handler):
         self.found: list[str] = []
 
     def emit(self, record: logging.LogRecord) -> None:
-        from tests.test_log_numbers import too_long
-
         message = record.getMessage()
         if too_long(message):
             self.found.append(f"{record.name}: {message}")
@@ -129,7 +128,7 @@ _LONG_NUMBERS = _LongNumbers()
 
 
 @pytest.fixture(autouse=True, scope="session")
-def _every_log_line_at_info(request):
+def _every_log_line_at_info():
     """Every command the suite runs logs at INFO, its default level (issue 71, item 3), for
     `_sensible_log_digits`."""
     logger = logging.getLogger("cloth")

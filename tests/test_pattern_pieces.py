@@ -206,6 +206,6 @@ def test_a_piece_s_edge_at_a_band_is_its_own_fabric_s_not_the_band_s(written):
     assert circumference[body] == pytest.approx(cone(cut[body]), rel=1e-6)  # the premise
     sew = [nest.pieces[n] for n in ("PANEL_1_M", "PANEL_2_M")]
     for end, seam in ((min, 0.12), (max, 0.37)):
-        y = end(float(end(p.sew[0][:, 1])) for p in sew)  # the rows both panels reach
+        y = end(float(end(p.sew[0][:, 1])) for p in sew)  # the panels' end row at the seam
         total = sum(p.sew_width_at(y) for p in sew)
         assert total == pytest.approx(float(cone(seam)), rel=1e-6)

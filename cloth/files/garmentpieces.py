@@ -81,10 +81,10 @@ def _between(pattern: Pattern, low: float, high: float, share: float) -> Pattern
     z = pattern.cut_height
     inside = (z > low) & (z < high)
     cut = np.concatenate(([low], z[inside], [high]))
-    own = z[inside] if inside.sum() >= 2 else z  # too few rows of its own: its neighbours'
+    own = inside if inside.sum() >= 2 else np.ones_like(inside)  # too few: its neighbours'
 
     def at(values: NDArray) -> NDArray:
-        return _own(cut, own, values[inside] if inside.sum() >= 2 else values)
+        return _own(cut, z[own], values[own])
 
     height = at(pattern.height)
     lines = tuple((n, y) for n, y in pattern.lines if height[0] <= y <= height[-1])

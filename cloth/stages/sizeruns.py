@@ -110,12 +110,9 @@ def shortfall(
         recuts = confirmation.size.recuts
         after = f" after {recuts} recut{'s' if recuts != 1 else ''} in {rounds} rounds"
         why = f" ({confirmation.why})" if confirmation.why else ""
-        held = not confirmation.why.startswith(NO_RECUT)  # a further round could recut it
-        fix = (
-            "more --rounds, a wider band or more --max-sizes"
-            if held
-            else "a wider band or more --max-sizes"
-        )
+        fix = "a wider band or more --max-sizes"
+        if not confirmation.why.startswith(NO_RECUT):  # a further round could recut it
+            fix = f"more --rounds, {fix}"
         return (
             f"{miss(confirmation, bands, ids)}{after}{why}; its files are written with "
             f"confirmed 0: give {fix}"
